@@ -1,0 +1,34 @@
+# Thin wrappers over the CMake presets (CMakePresets.json).
+# Every target first makes sure the Debian packages are there.
+JOBS ?= $(shell nproc)
+export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
+export CTEST_PARALLEL_LEVEL ?= $(JOBS)
+
+.PHONY: all deps build demo test test-release test-asan bench clean
+
+all: build
+
+deps:
+	@scripts/install-deps
+
+build: deps
+	cmake --preset release
+	cmake --build --preset release
+
+# The main job on the embedded default: see README.md, "What the demo shows".
+demo: build
+	scripts/demo
+
+test: deps test-release test-asan
+
+test-release:
+	cmake --workflow --preset release
+
+test-asan:
+	cmake --workflow --preset asan
+
+bench: build
+	scripts/bench
+
+clean:
+	rm -rf build

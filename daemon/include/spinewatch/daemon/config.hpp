@@ -1,0 +1,100 @@
+#pragma once
+// The station's TOML configuration (interfaces.md §6). Every key, its type,
+// default and range is declared once in config_keys.cpp; config/spinewatch.toml
+// is the annotated copy, and a test keeps the two in step.
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+struct Config {
+  struct Station {
+    std::string name = "spinewatch";
+    bool operator==(const Station&) const = default;
+  } station;
+
+  struct Cameras {
+    std::string source = "auto";  // auto | v4l2 | libcamera | recording
+    std::string frontal = "/dev/video0";
+    std::string lateral = "/dev/video2";
+    std::string pixel_format = "YUYV";
+    int width = 320;
+    int height = 240;
+    double fps = 30.0;
+    int exposure_us = 8000;  // 0: leave exposure to the driver
+    int gain = -1;           // -1: leave gain to the driver
+    int buffers = 4;
+    std::string calibration = "/etc/spinewatch/calibration.yaml";
+    std::string recording = "";  // "" with source=auto/recording: the embedded phantom default
+    double watchdog_s = 2.0;
+    bool operator==(const Cameras&) const = default;
+  } cameras;
+
+  struct Trigger {
+    std::string mode = "free-run";  // free-run | master | slave
+    std::string chip = "gpiochip0";
+    int line = 17;
+    int pulse_us = 1000;
+    std::string controller = "";  // serial device of the trigger controller, "" for none
+    bool operator==(const Trigger&) const = default;
+  } trigger;
+
+  struct Silhouette {
+    std::string background = "learn";  // learn | image | threshold
+    int learn_frames = 10;
+    int threshold = 28;        // grey levels above the background difference
+    int min_blob_px = 600;
+    std::string background_frontal = "";
+    std::string background_lateral = "";
+    bool operator==(const Silhouette&) const = default;
+  } silhouette;
+
+  struct Cvsm {
+    std::string model = "";  // "" = the generic model built in (config/cvsm-generic.toml)
+    int subject_frames = 10;   // upright frames used to build the subject's model
+    double lost_cost = 0.35;   // cost above which tracking is lost
+    bool operator==(const Cvsm&) const = default;
+  } cvsm;
+
+  struct Spine {
+    std::string model = "";  // "" = the generic model built in
+    double voxel_mm = 1.0;
+    int substeps = 16;
+    bool operator==(const Spine&) const = default;
+  } spine;
+
+  struct Subject {
+    double mass_kg = 75.0;
+    double height_mm = 1750.0;
+    bool operator==(const Subject&) const = default;
+  } subject;
+
+  struct Publish {
+    std::string listen = "127.0.0.1:7117";  // HOST:PORT or "none"
+    std::string unix_socket = "";           // "" = $RUNTIME_DIRECTORY/posture.sock, "none" = off
+    int client_queue = 256;                 // lines buffered per client before it is dropped
+    int max_clients = 32;
+    bool operator==(const Publish&) const = default;
+  } publish;
+
+  struct Log {
+    std::string level = "info";  // trace | debug | info | warn | error
+    int status_interval_s = 60;
+    bool operator==(const Log&) const = default;
+  } log;
+
+  bool operator==(const Config&) const = default;
+};
+
+// Parses TOML text; `source` names it in error messages ("FILE:LINE: key: problem").
+Result<Config> parse_config(std::string_view toml_text, std::string_view source);
+Result<Config> load_config(const std::filesystem::path& path);
+
+// Every key the loader knows, "section.key", in declaration order.
+std::vector<std::string> config_keys();
+
+}  // namespace spinewatch

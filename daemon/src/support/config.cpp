@@ -1,0 +1,178 @@
+#include "spinewatch/daemon/config.hpp"
+
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <variant>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+namespace spinewatch {
+namespace {
+
+using Setter = std::function<std::optional<std::string>(Config&, const toml::node&)>;
+
+struct Key {
+  std::string name;  // "section.key"
+  Setter set;        // returns a problem, or nothing when the value was taken
+};
+
+template <class T>
+struct Range {
+  T min, max;
+};
+
+Key int_key(std::string name, int& (*field)(Config&), Range<long long> r) {
+  return {std::move(name), [field, r](Config& c, const toml::node& n) -> std::optional<std::string> {
+            auto v = n.value_exact<long long>();
+            if (!n.is_integer() || !v) return fmt::format("expected an integer, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            if (*v < r.min || *v > r.max) return fmt::format("{} is out of range [{}, {}]", *v, r.min, r.max);
+            field(c) = static_cast<int>(*v);
+            return std::nullopt;
+          }};
+}
+
+Key double_key(std::string name, double& (*field)(Config&), Range<double> r) {
+  return {std::move(name), [field, r](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_number()) return fmt::format("expected a number, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            const double v = *n.value<double>();
+            if (!(v >= r.min && v <= r.max)) return fmt::format("{} is out of range [{}, {}]", v, r.min, r.max);
+            field(c) = v;
+            return std::nullopt;
+          }};
+}
+
+Key string_key(std::string name, std::string& (*field)(Config&), std::vector<std::string> allowed = {}) {
+  return {std::move(name), [field, allowed](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_string()) return fmt::format("expected a string, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            std::string v = *n.value<std::string>();
+            if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end())
+              return fmt::format("\"{}\" is not one of: {}", v, fmt::join(allowed, ", "));
+            field(c) = std::move(v);
+            return std::nullopt;
+          }};
+}
+
+// The one table of keys. Add a key here and in config/spinewatch.toml.
+const std::vector<Key>& keys() {
+  static const std::vector<Key> table = {
+      string_key("station.name", [](Config& c) -> std::string& { return c.station.name; }),
+
+      string_key("cameras.source", [](Config& c) -> std::string& { return c.cameras.source; },
+                 {"auto", "v4l2", "libcamera", "recording"}),
+      string_key("cameras.frontal", [](Config& c) -> std::string& { return c.cameras.frontal; }),
+      string_key("cameras.lateral", [](Config& c) -> std::string& { return c.cameras.lateral; }),
+      string_key("cameras.pixel_format", [](Config& c) -> std::string& { return c.cameras.pixel_format; },
+                 {"YUYV", "GREY"}),
+      int_key("cameras.width", [](Config& c) -> int& { return c.cameras.width; }, {16, 4096}),
+      int_key("cameras.height", [](Config& c) -> int& { return c.cameras.height; }, {16, 4096}),
+      double_key("cameras.fps", [](Config& c) -> double& { return c.cameras.fps; }, {1.0, 120.0}),
+      int_key("cameras.exposure_us", [](Config& c) -> int& { return c.cameras.exposure_us; }, {0, 1000000}),
+      int_key("cameras.gain", [](Config& c) -> int& { return c.cameras.gain; }, {-1, 100000}),
+      int_key("cameras.buffers", [](Config& c) -> int& { return c.cameras.buffers; }, {4, 32}),
+      string_key("cameras.calibration", [](Config& c) -> std::string& { return c.cameras.calibration; }),
+      string_key("cameras.recording", [](Config& c) -> std::string& { return c.cameras.recording; }),
+      double_key("cameras.watchdog_s", [](Config& c) -> double& { return c.cameras.watchdog_s; }, {0.1, 60.0}),
+
+      string_key("trigger.mode", [](Config& c) -> std::string& { return c.trigger.mode; },
+                 {"free-run", "master", "slave"}),
+      string_key("trigger.chip", [](Config& c) -> std::string& { return c.trigger.chip; }),
+      int_key("trigger.line", [](Config& c) -> int& { return c.trigger.line; }, {0, 1023}),
+      int_key("trigger.pulse_us", [](Config& c) -> int& { return c.trigger.pulse_us; }, {20, 100000}),
+      string_key("trigger.controller", [](Config& c) -> std::string& { return c.trigger.controller; }),
+
+      string_key("silhouette.background", [](Config& c) -> std::string& { return c.silhouette.background; },
+                 {"learn", "image", "threshold"}),
+      int_key("silhouette.learn_frames", [](Config& c) -> int& { return c.silhouette.learn_frames; }, {1, 1000}),
+      int_key("silhouette.threshold", [](Config& c) -> int& { return c.silhouette.threshold; }, {1, 254}),
+      int_key("silhouette.min_blob_px", [](Config& c) -> int& { return c.silhouette.min_blob_px; }, {1, 1000000}),
+      string_key("silhouette.background_frontal", [](Config& c) -> std::string& { return c.silhouette.background_frontal; }),
+      string_key("silhouette.background_lateral", [](Config& c) -> std::string& { return c.silhouette.background_lateral; }),
+
+      string_key("cvsm.model", [](Config& c) -> std::string& { return c.cvsm.model; }),
+      int_key("cvsm.subject_frames", [](Config& c) -> int& { return c.cvsm.subject_frames; }, {0, 1000}),
+      double_key("cvsm.lost_cost", [](Config& c) -> double& { return c.cvsm.lost_cost; }, {0.01, 2.0}),
+
+      string_key("spine.model", [](Config& c) -> std::string& { return c.spine.model; }),
+      double_key("spine.voxel_mm", [](Config& c) -> double& { return c.spine.voxel_mm; }, {0.25, 5.0}),
+      int_key("spine.substeps", [](Config& c) -> int& { return c.spine.substeps; }, {1, 1000}),
+
+      double_key("subject.mass_kg", [](Config& c) -> double& { return c.subject.mass_kg; }, {20.0, 250.0}),
+      double_key("subject.height_mm", [](Config& c) -> double& { return c.subject.height_mm; }, {1000.0, 2300.0}),
+
+      string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
+      string_key("publish.unix_socket", [](Config& c) -> std::string& { return c.publish.unix_socket; }),
+      int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
+      int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),
+
+      string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
+                 {"trace", "debug", "info", "warn", "error"}),
+      int_key("log.status_interval_s", [](Config& c) -> int& { return c.log.status_interval_s; }, {1, 86400}),
+  };
+  return table;
+}
+
+const Key* find_key(const std::string& name) {
+  for (const auto& k : keys())
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+bool known_section(std::string_view section) {
+  for (const auto& k : keys())
+    if (std::string_view(k.name).substr(0, k.name.find('.')) == section) return true;
+  return false;
+}
+
+std::string at(std::string_view source, const toml::node& n) {
+  return fmt::format("{}:{}", source, n.source().begin.line);
+}
+
+}  // namespace
+
+std::vector<std::string> config_keys() {
+  std::vector<std::string> names;
+  for (const auto& k : keys()) names.push_back(k.name);
+  return names;
+}
+
+Result<Config> parse_config(std::string_view text, std::string_view source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    return Error{fmt::format("{}:{}: {}", source, e.source().begin.line, e.description())};
+  }
+  Config config;
+  for (const auto& [section_key, section] : root) {
+    const std::string section_name(section_key.str());
+    if (!section.is_table()) {
+      if (known_section(section_name))
+        return Error{fmt::format("{}: {}: expected a table [{}]", at(source, section), section_name, section_name)};
+      return Error{fmt::format("{}: {}: unknown key", at(source, section), section_name)};
+    }
+    if (!known_section(section_name))
+      return Error{fmt::format("{}: [{}]: unknown section", at(source, section), section_name)};
+    for (const auto& [key, value] : *section.as_table()) {
+      const std::string name = section_name + "." + std::string(key.str());
+      const Key* k = find_key(name);
+      if (!k) return Error{fmt::format("{}: {}: unknown key", at(source, value), name)};
+      if (auto problem = k->set(config, value))
+        return Error{fmt::format("{}: {}: {}", at(source, value), name, *problem)};
+    }
+  }
+  return config;
+}
+
+Result<Config> load_config(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) return Error{fmt::format("{}: cannot be read", path.string())};
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_config(text.str(), path.string());
+}
+
+}  // namespace spinewatch

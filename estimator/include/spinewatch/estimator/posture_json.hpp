@@ -1,0 +1,23 @@
+#pragma once
+// The NDJSON posture stream, schema version 1 (interfaces.md §3;
+// docs/posture.schema.json). Encoding is one line without the newline.
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+inline constexpr int kPostureSchemaVersion = 1;
+
+nlohmann::json to_json(const Posture& posture);
+std::string encode_posture(const Posture& posture);
+// Reads a posture line (ground truth, a recorded stream). `where` prefixes
+// error messages, e.g. "ground_truth.ndjson:12".
+Result<Posture> decode_posture(std::string_view line, std::string_view where);
+Result<Posture> posture_from_json(const nlohmann::json& j, std::string_view where);
+
+}  // namespace spinewatch

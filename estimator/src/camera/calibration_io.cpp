@@ -1,0 +1,102 @@
+// calibration.yaml through cv::FileStorage, so that files written by
+// OpenCV tools (and by us) read back exactly.
+#include <fmt/format.h>
+
+#include <opencv2/core.hpp>
+#include <Eigen/Dense>
+#include <opencv2/core/eigen.hpp>
+
+#include "spinewatch/estimator/camera_model.hpp"
+
+namespace spinewatch {
+namespace {
+
+Result<cv::Mat> read_matrix(const cv::FileNode& camera, const std::string& where, const char* key,
+                            int rows, int cols) {
+  const cv::FileNode node = camera[key];
+  if (node.empty()) return Error{fmt::format("{}.{}: missing", where, key)};
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception&) {
+    return Error{fmt::format("{}.{}: not a matrix", where, key)};
+  }
+  if (m.empty()) return Error{fmt::format("{}.{}: not a matrix", where, key)};
+  if (m.rows * m.cols == rows * cols && (m.rows == 1 || m.cols == 1) && (rows == 1 || cols == 1))
+    m = m.reshape(1, rows);
+  if (m.rows != rows || m.cols != cols)
+    return Error{fmt::format("{}.{}: expected {}x{}, got {}x{}", where, key, rows, cols, m.rows, m.cols)};
+  m.convertTo(m, CV_64F);
+  for (int i = 0; i < m.rows * m.cols; ++i)
+    if (!std::isfinite(m.at<double>(i)))
+      return Error{fmt::format("{}.{}: element {} is not finite", where, key, i)};
+  return m;
+}
+
+Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& file, const char* name) {
+  const cv::FileNode node = fs[name];
+  const std::string where = fmt::format("{}: {}", file, name);
+  if (node.empty() || !node.isMap()) return Error{fmt::format("{}: missing camera node", where)};
+  auto K = read_matrix(node, where, "camera_matrix", 3, 3);
+  if (!K) return K.error();
+  auto dist = read_matrix(node, where, "dist_coeffs", 1, 5);
+  if (!dist) return dist.error();
+  auto R = read_matrix(node, where, "R", 3, 3);
+  if (!R) return R.error();
+  auto t = read_matrix(node, where, "t", 3, 1);
+  if (!t) return t.error();
+
+  CameraModel cam;
+  cv::cv2eigen(*K, cam.camera_matrix);
+  for (int i = 0; i < 5; ++i) cam.dist_coeffs[static_cast<std::size_t>(i)] = dist->at<double>(i);
+  cv::cv2eigen(*R, cam.R);
+  cv::cv2eigen(*t, cam.t);
+  if (cam.camera_matrix(0, 0) <= 0 || cam.camera_matrix(1, 1) <= 0)
+    return Error{fmt::format("{}.camera_matrix: focal lengths must be positive", where)};
+  const double orthonormality = (cam.R * cam.R.transpose() - Eigen::Matrix3d::Identity()).norm();
+  if (orthonormality > 1e-3 || cam.R.determinant() < 0)
+    return Error{fmt::format("{}.R: not a rotation matrix (|R·Rᵀ − I| = {:.3g}, det = {:.3g})", where,
+                             orthonormality, cam.R.determinant())};
+  return cam;
+}
+
+}  // namespace
+
+Result<CameraRig> load_calibration(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
+  cv::FileStorage fs;
+  try {
+    if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
+  } catch (const cv::Exception& e) {
+    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, e.err)};
+  }
+  auto frontal = read_camera(fs, file, "frontal");
+  if (!frontal) return frontal.error();
+  auto lateral = read_camera(fs, file, "lateral");
+  if (!lateral) return lateral.error();
+  return CameraRig{*frontal, *lateral};
+}
+
+Status save_calibration(const std::filesystem::path& path, const CameraRig& rig) {
+  try {
+    cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+    if (!fs.isOpened()) return Error{fmt::format("{}: cannot be written", path.string())};
+    auto write_camera = [&fs](const char* name, const CameraModel& cam) {
+      cv::Mat K, R, t;
+      cv::eigen2cv(cam.camera_matrix, K);
+      cv::eigen2cv(cam.R, R);
+      cv::eigen2cv(cam.t, t);
+      cv::Mat dist(1, 5, CV_64F);
+      for (int i = 0; i < 5; ++i) dist.at<double>(i) = cam.dist_coeffs[static_cast<std::size_t>(i)];
+      fs << name << "{" << "camera_matrix" << K << "dist_coeffs" << dist << "R" << R << "t" << t << "}";
+    };
+    write_camera("frontal", rig.frontal);
+    write_camera("lateral", rig.lateral);
+  } catch (const cv::Exception& e) {
+    return Error{fmt::format("{}: {}", path.string(), e.err)};
+  }
+  return Ok{};
+}
+
+}  // namespace spinewatch

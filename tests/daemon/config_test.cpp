@@ -1,0 +1,111 @@
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <set>
+
+#include "spinewatch/daemon/config.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+TEST(Config, EmptyFileGivesDefaults) {
+  auto c = parse_config("", "empty.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_EQ(c->publish.listen, "127.0.0.1:7117");
+  EXPECT_EQ(c->cameras.width, 320);
+  EXPECT_DOUBLE_EQ(c->cameras.fps, 30.0);
+}
+
+TEST(Config, ReadsValues) {
+  auto c = parse_config("[cameras]\nfps = 60\nwidth = 640\n[station]\nname = \"desk-3\"\n", "x.toml");
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_DOUBLE_EQ(c->cameras.fps, 60.0);  // an integer is accepted where a number is expected
+  EXPECT_EQ(c->cameras.width, 640);
+  EXPECT_EQ(c->station.name, "desk-3");
+}
+
+TEST(Config, UnknownKeyNamesKeyAndLine) {
+  auto c = parse_config("[cameras]\nfps = 30\nfpz = 30\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:3: cameras.fpz: unknown key");
+}
+
+TEST(Config, UnknownSection) {
+  auto c = parse_config("\n[camera]\nfps = 30\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:2: [camera]: unknown section");
+}
+
+TEST(Config, TopLevelKeyIsUnknown) {
+  auto c = parse_config("fps = 30\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:1: fps: unknown key");
+}
+
+TEST(Config, WrongTypeNamesKeyAndLine) {
+  auto c = parse_config("[cameras]\n\nwidth = \"wide\"\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:3: cameras.width: expected an integer, got string");
+  auto d = parse_config("[cameras]\nfps = \"fast\"\n", "s.toml");
+  ASSERT_FALSE(d.ok());
+  EXPECT_EQ(d.error().message, "s.toml:2: cameras.fps: expected a number, got string");
+  auto e = parse_config("[station]\nname = 3\n", "s.toml");
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.error().message, "s.toml:2: station.name: expected a string, got integer");
+  auto f = parse_config("[cameras]\nwidth = 320.5\n", "s.toml");
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.error().message, "s.toml:2: cameras.width: expected an integer, got floating-point");
+}
+
+TEST(Config, OutOfRangeNamesKeyAndLine) {
+  auto c = parse_config("[cameras]\nfps = 500\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:2: cameras.fps: 500 is out of range [1, 120]");
+  auto d = parse_config("[cameras]\nbuffers = 2\n", "station.toml");
+  ASSERT_FALSE(d.ok());
+  EXPECT_EQ(d.error().message, "station.toml:2: cameras.buffers: 2 is out of range [4, 32]");
+}
+
+TEST(Config, EnumValueOutsideTheSet) {
+  auto c = parse_config("[trigger]\nmode = \"sometimes\"\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "station.toml:2: trigger.mode: \"sometimes\" is not one of: free-run, master, slave");
+}
+
+TEST(Config, SyntaxErrorNamesLine) {
+  auto c = parse_config("[cameras]\nfps = = 3\n", "station.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message.rfind("station.toml:2: ", 0), 0u) << c.error().message;
+}
+
+TEST(Config, MissingFile) {
+  auto c = load_config("/nonexistent/spinewatch.toml");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.error().message, "/nonexistent/spinewatch.toml: cannot be read");
+}
+
+// The annotated default file must list every key the loader knows, with
+// the loader's defaults, and nothing else.
+TEST(Config, AnnotatedDefaultFileListsEveryKeyWithItsDefault) {
+  const auto path = test::source_path("config/spinewatch.toml");
+  auto c = load_config(path);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  const std::string text = test::read_file(path);
+  std::set<std::string> in_file;
+  std::string section;
+  std::regex section_re(R"(^\[([a-z_]+)\]\s*$)"), key_re(R"(^([a-z_]+)\s*=)");
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, section_re)) section = m[1];
+    else if (std::regex_search(line, m, key_re)) in_file.insert(section + "." + std::string(m[1]));
+  }
+  const auto keys = config_keys();
+  EXPECT_EQ(in_file, std::set<std::string>(keys.begin(), keys.end()));
+
+  EXPECT_TRUE(*c == Config{}) << "config/spinewatch.toml and config.hpp disagree on a default";
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,112 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "spinewatch/estimator/posture_json.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+Posture tracking_posture() {
+  Posture p;
+  p.seq = 17;
+  p.t_ns = 566666666;
+  p.state = TrackingState::Tracking;
+  SpinePose pose;
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    pose[i].body_center = Eigen::Vector3d(-60.0 + i, 1450.0 - 28.0 * i, 0.5 * i);
+    pose[i].q = Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitZ()));
+  }
+  p.vertebrae = pose;
+  p.neck = pose[kNeckIndex].body_center;
+  p.waist = pose[kWaistIndex].body_center;
+  p.fit.cost = 0.031;
+  p.latency_us = 412;
+  return p;
+}
+
+TEST(PostureJson, RequiredFieldsInOrderAndNames) {
+  const auto j = nlohmann::json::parse(encode_posture(tracking_posture()));
+  EXPECT_EQ(j["class"], "posture");
+  EXPECT_EQ(j["v"], 1);
+  EXPECT_EQ(j["seq"], 17);
+  EXPECT_EQ(j["state"], "tracking");
+  ASSERT_EQ(j["vertebrae"].size(), 17u);
+  EXPECT_EQ(j["vertebrae"][0]["name"], "T1");
+  EXPECT_EQ(j["vertebrae"][16]["name"], "L5");
+  EXPECT_DOUBLE_EQ(j["fit"]["cost"].get<double>(), 0.031);
+  EXPECT_EQ(encode_posture(tracking_posture()).find('\n'), std::string::npos);
+}
+
+TEST(PostureJson, LostPostureHasNulls) {
+  Posture p;
+  p.seq = 3;
+  p.state = TrackingState::Lost;
+  p.fit.flag = "no_person";
+  const auto j = nlohmann::json::parse(encode_posture(p));
+  EXPECT_TRUE(j["neck"].is_null());
+  EXPECT_TRUE(j["waist"].is_null());
+  EXPECT_TRUE(j["vertebrae"].is_null());
+  EXPECT_EQ(j["state"], "lost");
+}
+
+TEST(PostureJson, DecodeRoundTrip) {
+  const Posture p = tracking_posture();
+  auto d = decode_posture(encode_posture(p), "line 1");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->seq, p.seq);
+  EXPECT_EQ(d->t_ns, p.t_ns);
+  EXPECT_EQ(d->state, p.state);
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    EXPECT_LT(((*d->vertebrae)[i].body_center - (*p.vertebrae)[i].body_center).norm(), 0.01);
+    EXPECT_LT((*d->vertebrae)[i].q.angularDistance((*p.vertebrae)[i].q), 1e-5);
+  }
+}
+
+TEST(PostureJson, DecodeRejectsBadLinesWithWhere) {
+  EXPECT_EQ(decode_posture("{", "gt.ndjson:4").error().message, "gt.ndjson:4: not valid JSON");
+  EXPECT_EQ(decode_posture(R"({"seq": 1, "t_ns": 0, "state": "sleeping"})", "gt.ndjson:5").error().message,
+            "gt.ndjson:5: state: unknown value \"sleeping\"");
+  EXPECT_EQ(decode_posture(R"({"seq": 1, "t_ns": 0, "state": "tracking", "neck": [1, 2]})", "g:6").error().message,
+            "g:6: neck: expected an array of 3 numbers");
+  EXPECT_EQ(decode_posture(R"({"t_ns": 0, "state": "lost"})", "g:7").error().message,
+            "g:7: seq: missing or not a non-negative integer");
+}
+
+TEST(PostureJson, OutputValidatesAgainstSchema) {
+  test::TempDir dir;
+  Posture full = tracking_posture();
+  full.neck_dir = Eigen::Vector3d(0, 1, 0);
+  full.waist_dir = Eigen::Vector3d(0.1, 0.99, 0).normalized();
+  full.angles.push_back({"T1-T2", 1.5, -0.5, 0.2});
+  full.loads.push_back({"L5", 458.0});
+  full.ergonomics = Ergonomics{12.0, 3.0, 1.0, 2, {{"iso11226_trunk_inclination", "ok", 12.0, 0.0}}};
+  full.fit.xor_frontal_px = 120;
+  full.fit.candidates = 80;
+  Posture lost;
+  lost.seq = 18;
+  lost.state = TrackingState::Lost;
+  std::ofstream out(dir / "stream.ndjson");
+  out << encode_posture(tracking_posture()) << '\n' << encode_posture(full) << '\n' << encode_posture(lost) << '\n';
+  out.close();
+  EXPECT_EQ(test::validate_ndjson(dir / "stream.ndjson"), "");
+}
+
+// The validator must be able to fail, or the test above proves nothing.
+TEST(PostureJson, SchemaRejectsBrokenLines) {
+  test::TempDir dir;
+  auto j = to_json(tracking_posture());
+  j["vertebrae"].erase(3);
+  test::write_file(dir / "a.ndjson", j.dump() + "\n");
+  EXPECT_NE(test::validate_ndjson(dir / "a.ndjson"), "");
+  auto k = to_json(tracking_posture());
+  k["state"] = "lost";  // lost with a posture is a contradiction
+  test::write_file(dir / "b.ndjson", k.dump() + "\n");
+  EXPECT_NE(test::validate_ndjson(dir / "b.ndjson"), "");
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,75 @@
+#include "test_support.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace spinewatch::test {
+
+TempDir::TempDir() {
+  std::random_device rd;
+  const auto base = std::filesystem::path(SPINEWATCH_BINARY_DIR) / "test-tmp";
+  std::filesystem::create_directories(base);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    // Built with a stream: GCC 12 warns falsely (-Wrestrict) on "t" + std::string at -O2.
+    std::ostringstream name;
+    name << 't' << ::getpid() << '-' << rd();
+    auto candidate = base / name.str();
+    if (std::filesystem::create_directory(candidate)) {
+      path_ = candidate;
+      return;
+    }
+  }
+  throw std::runtime_error("cannot create a temporary directory");
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::filesystem::path source_path(const std::string& relative) {
+  return std::filesystem::path(SPINEWATCH_SOURCE_DIR) / relative;
+}
+
+CommandResult run_command(const std::string& command_line) {
+  CommandResult result;
+  const std::string full = command_line + " 2>&1";
+  FILE* pipe = ::popen(full.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer{};
+  std::size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+CommandResult run_cli(const std::string& args) { return run_command(std::string(SPINEWATCH_CLI) + " " + args); }
+
+std::string validate_ndjson(const std::filesystem::path& file) {
+  const auto script = source_path("tests/support/validate_ndjson.py");
+  const auto schema_dir = source_path("docs");
+  auto r = run_command("/usr/bin/python3 '" + script.string() + "' '" + schema_dir.string() + "' '" + file.string() + "'");
+  return r.exit_code == 0 ? std::string() : (r.output.empty() ? "validator failed to run" : r.output);
+}
+
+}  // namespace spinewatch::test

@@ -1,0 +1,40 @@
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace spinewatch::test {
+
+// A fresh directory under the build tree, removed when the object goes.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+void write_file(const std::filesystem::path& path, const std::string& text);
+std::string read_file(const std::filesystem::path& path);
+std::filesystem::path source_path(const std::string& relative);  // in the source tree
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // standard output and standard error together
+};
+// Runs a shell command line and captures what it prints.
+CommandResult run_command(const std::string& command_line);
+// Runs the spinewatch CLI with the given arguments (already shell-quoted).
+CommandResult run_cli(const std::string& args);
+
+// Validates every line of an NDJSON file against docs/posture.schema.json
+// (hello lines against the hello schema), with Debian's python3-jsonschema.
+// Returns "" when valid, else the validator's message.
+std::string validate_ndjson(const std::filesystem::path& file);
+
+}  // namespace spinewatch::test

@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand of the spinewatch CLI lives in its own file and adds
+// itself to the app; its callback stores the exit code here.
+#include <CLI/CLI.hpp>
+
+namespace spinewatch::cli {
+
+struct ExitCode {
+  int value = 0;
+};
+
+void add_check_command(CLI::App& app, ExitCode& exit_code);
+
+}  // namespace spinewatch::cli

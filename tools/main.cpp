@@ -1,0 +1,36 @@
+// spinewatch: the command-line tool of the posture station.
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "command.hpp"
+#include "spinewatch/daemon/logging.hpp"
+#include "spinewatch/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace spinewatch;
+  CLI::App app{"spinewatch: spine posture from two orthogonal cameras", "spinewatch"};
+  app.set_version_flag("--version", kVersion);
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  app.parse_complete_callback([&] { setup_logging(log_level); });
+
+  cli::ExitCode exit_code;
+  cli::add_check_command(app, exit_code);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and usage hint
+    return 2;     // interfaces.md §4: an unknown option or bad value exits 2
+  }
+  return exit_code.value;
+}
