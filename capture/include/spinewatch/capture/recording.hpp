@@ -1,0 +1,74 @@
+#pragma once
+// Recording directories (interfaces.md §2): frontal.raw + lateral.raw as
+// v4l2-ctl --stream-mmap --stream-to=FILE writes them (whole frames, no
+// headers), recording.json, calibration.yaml.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "spinewatch/frames/frame.hpp"
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+enum class View : std::uint8_t { Frontal = 0, Lateral = 1 };
+inline constexpr View kViews[] = {View::Frontal, View::Lateral};
+std::string_view to_string(View view);  // "frontal" / "lateral"
+
+// What recording.json says.
+struct RecordingInfo {
+  FrameFormat format;  // bytesperline = width × bpp unless "bytesperline" is given
+  double fps = 30.0;
+  // Per-frame metadata, one entry per frame actually in the .raw file after
+  // validation; filled with seq = i, t_ns = i / fps when the JSON has none.
+  std::vector<FrameInfo> frames[2];
+  nlohmann::json subject;  // optional, null when absent
+  std::string notes;       // optional
+};
+
+// Reads a recording directory. Opening validates everything and returns one
+// error naming the file and the problem; a truncated last frame is dropped
+// with a warning (warnings() lists them).
+class RecordingReader {
+ public:
+  static Result<RecordingReader> open(const std::filesystem::path& dir);
+
+  const RecordingInfo& info() const { return info_; }
+  const std::filesystem::path& dir() const { return dir_; }
+  std::size_t frame_count(View view) const { return info_.frames[static_cast<int>(view)].size(); }
+  // Reads frame `index` of a view (a copy owned by the Frame).
+  Result<Frame> read(View view, std::size_t index);
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  std::filesystem::path dir_;
+  RecordingInfo info_;
+  std::unique_ptr<std::ifstream> streams_[2];
+  std::vector<std::string> warnings_;
+};
+
+// Writes a recording directory in the same layout: frames appended to the
+// .raw files as they come, recording.json (with per-frame seq and t_ns) and,
+// calibration.yaml is the caller's (save_calibration in the estimator).
+class RecordingWriter {
+ public:
+  static Result<RecordingWriter> create(const std::filesystem::path& dir, FrameFormat format, double fps);
+
+  // Appends a frame's bytes (frame.format() must equal the writer's format).
+  Status write(View view, const Frame& frame);
+  // `subject` and `notes` go into recording.json when not null/empty.
+  Status finish(const nlohmann::json& subject = nullptr, const std::string& notes = {});
+
+ private:
+  std::filesystem::path dir_;
+  RecordingInfo info_;
+  std::unique_ptr<std::ofstream> streams_[2];
+};
+
+}  // namespace spinewatch
