@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,7 +43,9 @@ class RecordingReader {
   const RecordingInfo& info() const { return info_; }
   const std::filesystem::path& dir() const { return dir_; }
   std::size_t frame_count(View view) const { return info_.frames[static_cast<int>(view)].size(); }
-  // Reads frame `index` of a view (a copy owned by the Frame).
+  // Reads frame `index` of a view (a copy owned by the Frame). Not
+  // thread-safe: one reader per thread. An index past the end, or a file
+  // that shrank since open(), is an Error naming the file.
   Result<Frame> read(View view, std::size_t index);
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -54,15 +57,18 @@ class RecordingReader {
 };
 
 // Writes a recording directory in the same layout: frames appended to the
-// .raw files as they come, recording.json (with per-frame seq and t_ns) and,
-// calibration.yaml is the caller's (save_calibration in the estimator).
+// .raw files as they come, recording.json (with per-frame seq and t_ns) at
+// finish(); calibration.yaml is the caller's (save_calibration in the estimator).
 class RecordingWriter {
  public:
   static Result<RecordingWriter> create(const std::filesystem::path& dir, FrameFormat format, double fps);
 
-  // Appends a frame's bytes (frame.format() must equal the writer's format).
+  // Appends a frame's bytes (frame.format() must equal the writer's format;
+  // bytes beyond bytesperline × height, a driver's padding, are not written).
   Status write(View view, const Frame& frame);
   // `subject` and `notes` go into recording.json when not null/empty.
+  // recording.json is still written when a stream got no frames, but the
+  // result is then an Error (such a recording would not replay).
   Status finish(const nlohmann::json& subject = nullptr, const std::string& notes = {});
 
  private:

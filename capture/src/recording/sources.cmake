@@ -1,0 +1,10 @@
+# Recording directories: recording.json, the .raw size rule, reader, writer
+# and the paced/looping frame source.
+list(APPEND CAPTURE_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/view.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/recording_json.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/recording_json_format.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/raw_layout.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/recording_source.cpp)
