@@ -1,0 +1,22 @@
+#include "spinewatch/daemon/estimator_options.hpp"
+
+namespace spinewatch {
+
+EstimatorOptions estimator_options(const Config& c) {
+  EstimatorOptions o;
+  o.background = c.silhouette.background;
+  o.learn_frames = c.silhouette.learn_frames;
+  o.threshold = c.silhouette.threshold;
+  o.min_blob_px = c.silhouette.min_blob_px;
+  o.background_frontal = c.silhouette.background_frontal;
+  o.background_lateral = c.silhouette.background_lateral;
+  o.subject_frames = c.cvsm.subject_frames;
+  o.lost_cost = c.cvsm.lost_cost;
+  o.substeps = c.spine.substeps;
+  o.voxel_mm = c.spine.voxel_mm;
+  o.mass_kg = c.subject.mass_kg;
+  o.height_mm = c.subject.height_mm;
+  return o;
+}
+
+}  // namespace spinewatch

@@ -1,0 +1,47 @@
+#pragma once
+// The per-pair estimator: silhouettes → CVSM fit (neck, waist, end
+// directions) → accurate spine model, warm-started from the previous pair →
+// loads and ergonomic flags → one Posture. One instance per stream of pairs;
+// not thread-safe (the daemon runs it on its estimator thread).
+#include <memory>
+
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/frames/frame_pair.hpp"
+
+namespace spinewatch {
+
+struct EstimatorOptions {
+  // Silhouettes (config [silhouette]).
+  std::string background = "learn";  // learn | image | threshold
+  int learn_frames = 10;
+  int threshold = 28;
+  int min_blob_px = 600;
+  std::string background_frontal, background_lateral;  // PNG paths for background = "image"
+  // CVSM (config [cvsm]).
+  int subject_frames = 10;
+  double lost_cost = 0.35;
+  // Accurate model (config [spine]).
+  int substeps = 16;
+  double voxel_mm = 1.0;
+  // Subject (config [subject]).
+  double mass_kg = 75.0;
+  double height_mm = 1750.0;
+};
+
+class PostureEstimator {
+ public:
+  PostureEstimator(const CameraRig& rig, const EstimatorOptions& options);
+  ~PostureEstimator();
+  PostureEstimator(const PostureEstimator&) = delete;
+  PostureEstimator& operator=(const PostureEstimator&) = delete;
+
+  // Everything but latency_us, which the caller measures end to end.
+  Posture process(const FramePair& pair);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace spinewatch

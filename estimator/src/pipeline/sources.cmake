@@ -1,0 +1,1 @@
+list(APPEND ESTIMATOR_SOURCES ${CMAKE_CURRENT_LIST_DIR}/posture_estimator.cpp)

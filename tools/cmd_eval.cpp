@@ -1,0 +1,85 @@
+// spinewatch eval: errors of the estimate against a recording's ground truth
+// (DIR/ground_truth.ndjson, as the phantom writes it).
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "command.hpp"
+#include "progress_bar.hpp"
+#include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/replay/evaluation.hpp"
+#include "spinewatch/replay/posture_file.hpp"
+#include "spinewatch/replay/replay.hpp"
+
+namespace spinewatch::cli {
+namespace {
+
+nlohmann::json stats_json(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}, {"n", s.count}}; }
+
+nlohmann::json evaluation_json(const Evaluation& e) {
+  nlohmann::json levels = nlohmann::json::object();
+  for (std::size_t i = 0; i < kVertebraCount; ++i) levels[std::string(kVertebraNames[i])] = stats_json(e.per_level[i]);
+  return {{"truth_frames", e.truth_frames}, {"estimated_frames", e.estimated_frames},
+          {"lost_frames", e.lost_frames},   {"init_frames", e.init_frames},
+          {"lost_seqs", e.lost_seqs},       {"neck", stats_json(e.neck)},
+          {"waist", stats_json(e.waist)},   {"vertebrae", stats_json(e.all_vertebrae)},
+          {"per_level", levels}};
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app, ExitCode& exit_code) {
+  struct Options {
+    std::string recording, estimate, truth, config;
+    bool json = false;
+  };
+  auto opts = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("eval", "Errors of the estimate against ground truth");
+  cmd->add_option("--recording", opts->recording, "recording directory with ground_truth.ndjson")->required();
+  cmd->add_option("--estimate", opts->estimate, "posture stream to evaluate; default: replay the recording now");
+  cmd->add_option("--truth", opts->truth, "ground truth instead of DIR/ground_truth.ndjson");
+  cmd->add_option("--config", opts->config, "station configuration (estimator settings) for the replay");
+  cmd->add_flag("--json", opts->json, "print the summary as one JSON object");
+  cmd->callback([opts, &exit_code] {
+    auto fail = [&exit_code](const Error& e) {
+      spdlog::error("{}", e.message);
+      exit_code.value = 1;
+    };
+    const std::string truth_path = opts->truth.empty() ? opts->recording + "/ground_truth.ndjson" : opts->truth;
+    auto truth = read_posture_file(truth_path);
+    if (!truth) return fail(truth.error());
+
+    std::vector<Posture> estimate;
+    if (!opts->estimate.empty()) {
+      auto read = read_posture_file(opts->estimate);
+      if (!read) return fail(read.error());
+      estimate = std::move(read).value();
+    } else {
+      ReplayOptions options;
+      if (!opts->config.empty()) {
+        auto config = load_config(opts->config);
+        if (!config) return fail(config.error());
+        options.estimator = estimator_options(*config);
+      }
+      ProgressBar bar("eval");
+      auto stats = replay_recording(
+          opts->recording, options,
+          [&estimate](const Posture& p) -> Status {
+            estimate.push_back(p);
+            return Ok{};
+          },
+          [&bar](const ReplayProgress& p) { bar.update(p.pairs_done, p.pairs_expected); });
+      if (!stats) return fail(stats.error());
+    }
+    const Evaluation e = evaluate(estimate, *truth);
+    if (opts->json)
+      std::cout << evaluation_json(e).dump() << '\n';
+    else
+      std::cout << format_evaluation(e);
+  });
+}
+
+}  // namespace spinewatch::cli

@@ -1,0 +1,67 @@
+// spinewatch replay: every frame pair of a recording, as fast as the machine
+// allows, to the NDJSON posture stream (interfaces.md §4).
+#include <memory>
+
+#include <spdlog/spdlog.h>
+
+#include "command.hpp"
+#include "output_file.hpp"
+#include "progress_bar.hpp"
+#include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/estimator/posture_json.hpp"
+#include "spinewatch/replay/replay.hpp"
+
+namespace spinewatch::cli {
+
+void add_replay_command(CLI::App& app, ExitCode& exit_code) {
+  struct Options {
+    std::string recording, out, config, calibration;
+  };
+  auto opts = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("replay", "Estimate the posture of every frame pair of a recording");
+  cmd->add_option("--recording", opts->recording, "recording directory (interfaces.md §2)")->required();
+  cmd->add_option("--out", opts->out, "NDJSON output file, - for standard output")->required();
+  cmd->add_option("--config", opts->config, "station configuration (estimator settings); defaults otherwise");
+  cmd->add_option("--calibration", opts->calibration, "calibration.yaml instead of the recording's");
+  cmd->callback([opts, &exit_code] {
+    ReplayOptions options;
+    if (!opts->config.empty()) {
+      auto config = load_config(opts->config);
+      if (!config) {
+        spdlog::error("{}", config.error().message);
+        exit_code.value = 1;
+        return;
+      }
+      options.estimator = estimator_options(*config);
+    }
+    options.calibration = opts->calibration;
+    auto out = OutputFile::open(opts->out);
+    if (!out) {
+      spdlog::error("{}", out.error().message);
+      exit_code.value = 1;
+      return;
+    }
+    ProgressBar bar("replay");
+    auto stats = replay_recording(
+        opts->recording, options,
+        [&out](const Posture& p) -> Status {
+          (*out)->stream() << encode_posture(p) << '\n';
+          return Ok{};
+        },
+        [&bar](const ReplayProgress& p) { bar.update(p.pairs_done, p.pairs_expected); });
+    if (!stats) {
+      spdlog::error("{}", stats.error().message);
+      exit_code.value = 1;
+      return;
+    }
+    if (auto s = (*out)->commit(); !s) {
+      spdlog::error("{}", s.error().message);
+      exit_code.value = 1;
+      return;
+    }
+    spdlog::debug("replay: {} pairs, {} lost; {}", stats->pairs, stats->lost, stats->pairing.summary());
+  });
+}
+
+}  // namespace spinewatch::cli

@@ -1,0 +1,35 @@
+#pragma once
+// Errors of an estimated posture stream against ground truth (the phantom's
+// ground_truth.ndjson): neck, waist and every vertebra, per level and per
+// axis, plus lost frames. Frames are matched by seq.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "spinewatch/estimator/posture.hpp"
+
+namespace spinewatch {
+
+struct ErrorStats {
+  std::size_t count = 0;
+  double mean = 0, p95 = 0, max = 0;
+};
+ErrorStats summarise(std::vector<double> values);
+
+struct Evaluation {
+  std::size_t truth_frames = 0;      // frames where the truth has a posture
+  std::size_t estimated_frames = 0;  // of those, frames the estimate has a posture for
+  std::size_t lost_frames = 0;       // truth has a posture, the estimate is lost or missing
+  std::size_t init_frames = 0;       // estimate still initialising (not counted lost)
+  std::vector<std::size_t> lost_seqs;
+  ErrorStats neck, waist, all_vertebrae;
+  std::array<ErrorStats, 3> neck_axis, waist_axis;         // |Δx|, |Δy|, |Δz|
+  std::array<ErrorStats, kVertebraCount> per_level;        // 3D distance
+  std::array<std::array<ErrorStats, 3>, kVertebraCount> per_level_axis;
+};
+
+// `include_init`: count provisional postures of the init state as estimates.
+Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Posture>& truth, bool include_init = false);
+std::string format_evaluation(const Evaluation& e);
+
+}  // namespace spinewatch

@@ -1,0 +1,40 @@
+#pragma once
+// Offline replay of a recording directory through the estimator: frames in
+// timestamp order → pairer (free-run, by timestamp) → PostureEstimator →
+// one Posture per pair, as fast as the machine allows.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+
+#include "spinewatch/estimator/pipeline.hpp"
+#include "spinewatch/frames/result.hpp"
+#include "spinewatch/sync/pairing_stats.hpp"
+
+namespace spinewatch {
+
+struct ReplayOptions {
+  EstimatorOptions estimator;
+  // calibration.yaml to use instead of DIR/calibration.yaml.
+  std::filesystem::path calibration;
+};
+
+struct ReplayStats {
+  std::uint64_t pairs = 0;
+  std::uint64_t lost = 0;  // postures with state lost
+  sync::PairingStats pairing;
+  bool default_rig = false;  // no calibration.yaml: the documented default rig was used
+};
+
+struct ReplayProgress {
+  std::uint64_t pairs_done = 0;
+  std::uint64_t pairs_expected = 0;  // min of the two streams' frame counts
+};
+
+using PostureSink = std::function<Status(const Posture&)>;
+using ProgressSink = std::function<void(const ReplayProgress&)>;
+
+// Errors: the recording's (file and problem) or the first error the sink returns.
+Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const ReplayOptions& options,
+                                     const PostureSink& sink, const ProgressSink& progress = {});
+
+}  // namespace spinewatch

@@ -1,0 +1,115 @@
+#include "spinewatch/replay/evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+namespace spinewatch {
+
+ErrorStats summarise(std::vector<double> values) {
+  ErrorStats s;
+  s.count = values.size();
+  if (values.empty()) return s;
+  std::sort(values.begin(), values.end());
+  double sum = 0;
+  for (double v : values) sum += v;
+  s.mean = sum / double(values.size());
+  // Nearest-rank percentile.
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * double(values.size())));
+  s.p95 = values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
+  s.max = values.back();
+  return s;
+}
+
+Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Posture>& truth, bool include_init) {
+  std::map<std::uint64_t, const Posture*> by_seq;
+  for (const auto& p : estimate) by_seq[p.seq] = &p;
+
+  Evaluation e;
+  std::vector<double> neck, waist, all;
+  std::array<std::vector<double>, 3> neck_axis, waist_axis;
+  std::array<std::vector<double>, kVertebraCount> level;
+  std::array<std::array<std::vector<double>, 3>, kVertebraCount> level_axis;
+
+  for (const auto& t : truth) {
+    if (t.state == TrackingState::Lost || !t.neck || !t.waist || !t.vertebrae) continue;
+    ++e.truth_frames;
+    auto it = by_seq.find(t.seq);
+    const Posture* p = it == by_seq.end() ? nullptr : it->second;
+    if (p && p->state == TrackingState::Init && !include_init) {
+      ++e.init_frames;
+      continue;
+    }
+    if (!p || p->state == TrackingState::Lost || !p->neck || !p->waist) {
+      ++e.lost_frames;
+      e.lost_seqs.push_back(t.seq);
+      continue;
+    }
+    ++e.estimated_frames;
+    const Eigen::Vector3d dn = *p->neck - *t.neck, dw = *p->waist - *t.waist;
+    neck.push_back(dn.norm());
+    waist.push_back(dw.norm());
+    for (int a = 0; a < 3; ++a) {
+      neck_axis[a].push_back(std::abs(dn[a]));
+      waist_axis[a].push_back(std::abs(dw[a]));
+    }
+    if (p->vertebrae) {
+      for (std::size_t i = 0; i < kVertebraCount; ++i) {
+        const Eigen::Vector3d d = (*p->vertebrae)[i].body_center - (*t.vertebrae)[i].body_center;
+        level[i].push_back(d.norm());
+        all.push_back(d.norm());
+        for (int a = 0; a < 3; ++a) level_axis[i][a].push_back(std::abs(d[a]));
+      }
+    }
+  }
+  e.neck = summarise(neck);
+  e.waist = summarise(waist);
+  e.all_vertebrae = summarise(all);
+  for (int a = 0; a < 3; ++a) {
+    e.neck_axis[a] = summarise(neck_axis[a]);
+    e.waist_axis[a] = summarise(waist_axis[a]);
+  }
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    e.per_level[i] = summarise(level[i]);
+    for (int a = 0; a < 3; ++a) e.per_level_axis[i][a] = summarise(level_axis[i][a]);
+  }
+  return e;
+}
+
+std::string format_evaluation(const Evaluation& e) {
+  std::string out;
+  auto line = [&out](std::string_view name, const ErrorStats& s) {
+    out += fmt::format("  {:<10} {:>8.1f} {:>8.1f} {:>8.1f}\n", name, s.mean, s.p95, s.max);
+  };
+  out += fmt::format("frames with a true posture: {}, estimated: {}, lost: {}, initialising: {}\n",
+                     e.truth_frames, e.estimated_frames, e.lost_frames, e.init_frames);
+  out += "errors in mm      mean      p95      max\n";
+  line("neck", e.neck);
+  line("waist", e.waist);
+  line("vertebrae", e.all_vertebrae);
+  const char* axes[] = {"x (ant)", "y (sup)", "z (right)"};
+  out += "per axis |Δ|     neck mean/p95      waist mean/p95\n";
+  for (int a = 0; a < 3; ++a)
+    out += fmt::format("  {:<10} {:>7.1f} {:>7.1f}    {:>7.1f} {:>7.1f}\n", axes[a], e.neck_axis[a].mean,
+                       e.neck_axis[a].p95, e.waist_axis[a].mean, e.waist_axis[a].p95);
+  if (e.all_vertebrae.count > 0) {
+    out += "per level        3D mean   p95    max   |Δx| |Δy| |Δz| mean\n";
+    for (std::size_t i = 0; i < kVertebraCount; ++i) {
+      const auto& s = e.per_level[i];
+      const auto& ax = e.per_level_axis[i];
+      out += fmt::format("  {:<10} {:>7.1f} {:>6.1f} {:>6.1f}   {:>4.1f} {:>4.1f} {:>4.1f}\n", kVertebraNames[i], s.mean,
+                         s.p95, s.max, ax[0].mean, ax[1].mean, ax[2].mean);
+    }
+  }
+  if (!e.lost_seqs.empty()) {
+    out += "lost seq:";
+    for (std::size_t i = 0; i < e.lost_seqs.size() && i < 40; ++i) out += fmt::format(" {}", e.lost_seqs[i]);
+    if (e.lost_seqs.size() > 40) out += " …";
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace spinewatch
