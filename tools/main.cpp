@@ -19,6 +19,14 @@ int main(int argc, char** argv) {
 
   cli::ExitCode exit_code;
   cli::add_check_command(app, exit_code);
+  cli::add_replay_command(app, exit_code);
+  cli::add_eval_command(app, exit_code);
+  cli::add_deform_command(app, exit_code);
+  cli::add_fit_spine_command(app, exit_code);
+  cli::add_phantom_command(app, exit_code);
+  cli::add_record_command(app, exit_code);
+  cli::add_devices_command(app, exit_code);
+  cli::add_watch_command(app, exit_code);
 
   try {
     app.parse(argc, argv);

@@ -75,6 +75,7 @@ const std::vector<Key>& keys() {
       int_key("cameras.buffers", [](Config& c) -> int& { return c.cameras.buffers; }, {4, 32}),
       string_key("cameras.calibration", [](Config& c) -> std::string& { return c.cameras.calibration; }),
       string_key("cameras.recording", [](Config& c) -> std::string& { return c.cameras.recording; }),
+      string_key("cameras.replay", [](Config& c) -> std::string& { return c.cameras.replay; }, {"paced", "fast"}),
       double_key("cameras.watchdog_s", [](Config& c) -> double& { return c.cameras.watchdog_s; }, {0.1, 60.0}),
 
       string_key("trigger.mode", [](Config& c) -> std::string& { return c.trigger.mode; },

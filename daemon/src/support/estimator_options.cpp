@@ -8,8 +8,6 @@ EstimatorOptions estimator_options(const Config& c) {
   o.learn_frames = c.silhouette.learn_frames;
   o.threshold = c.silhouette.threshold;
   o.min_blob_px = c.silhouette.min_blob_px;
-  o.background_frontal = c.silhouette.background_frontal;
-  o.background_lateral = c.silhouette.background_lateral;
   o.subject_frames = c.cvsm.subject_frames;
   o.lost_cost = c.cvsm.lost_cost;
   o.substeps = c.spine.substeps;

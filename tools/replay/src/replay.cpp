@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/capture/recording_source.hpp"
@@ -23,6 +24,22 @@ Result<CameraRig> recording_rig(const std::filesystem::path& dir, const ReplayOp
   return CameraRig::default_rig();
 }
 
+// The stored backgrounds for background = "image", as 8-bit grey images.
+Status load_backgrounds(const std::filesystem::path& dir, const ReplayOptions& options, PostureEstimator& estimator) {
+  cv::Mat images[2];
+  const std::filesystem::path paths[2] = {
+      options.background_frontal.empty() ? dir / "background_frontal.png" : options.background_frontal,
+      options.background_lateral.empty() ? dir / "background_lateral.png" : options.background_lateral};
+  for (int v = 0; v < 2; ++v) {
+    images[v] = cv::imread(paths[v].string(), cv::IMREAD_GRAYSCALE);
+    if (images[v].empty()) return Error{fmt::format("{}: cannot be read as an image", paths[v].string())};
+  }
+  auto view = [](const cv::Mat& m) {
+    return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step[0]), 1};
+  };
+  return estimator.set_backgrounds(view(images[0]), view(images[1]));
+}
+
 }  // namespace
 
 Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const ReplayOptions& options,
@@ -39,6 +56,8 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
 
   sync::FramePairer pairer(sync::PairerOptions{.fps = info.fps});
   PostureEstimator estimator(*rig, options.estimator);
+  if (options.estimator.background == "image")
+    if (auto s = load_backgrounds(dir, options, estimator); !s) return s.error();
 
   auto drain = [&]() -> Status {
     while (auto pair = pairer.pop()) {

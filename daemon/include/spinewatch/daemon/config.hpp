@@ -30,6 +30,7 @@ struct Config {
     int buffers = 4;
     std::string calibration = "/etc/spinewatch/calibration.yaml";
     std::string recording = "";  // "" with source=auto/recording: the embedded phantom default
+    std::string replay = "paced";  // paced | fast: how spinewatchd replays a recording
     double watchdog_s = 2.0;
     bool operator==(const Cameras&) const = default;
   } cameras;

@@ -8,6 +8,7 @@
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
+#include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {
 
@@ -17,7 +18,6 @@ struct EstimatorOptions {
   int learn_frames = 10;
   int threshold = 28;
   int min_blob_px = 600;
-  std::string background_frontal, background_lateral;  // PNG paths for background = "image"
   // CVSM (config [cvsm]).
   int subject_frames = 10;
   double lost_cost = 0.35;
@@ -38,6 +38,10 @@ class PostureEstimator {
 
   // Everything but latency_us, which the caller measures end to end.
   Posture process(const FramePair& pair);
+
+  // Stored empty-scene images for background = "image" (the caller reads
+  // them; the estimator does no I/O). Errors name the view and the problem.
+  Status set_backgrounds(const LumaView& frontal, const LumaView& lateral);
 
  private:
   struct Impl;

@@ -16,6 +16,9 @@ struct ReplayOptions {
   EstimatorOptions estimator;
   // calibration.yaml to use instead of DIR/calibration.yaml.
   std::filesystem::path calibration;
+  // Empty-scene images for estimator.background = "image"; empty paths mean
+  // DIR/background_frontal.png and DIR/background_lateral.png.
+  std::filesystem::path background_frontal, background_lateral;
 };
 
 struct ReplayStats {

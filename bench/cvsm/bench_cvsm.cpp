@@ -1,0 +1,162 @@
+// CVSM speed: the whole per-pair silhouettes + fit on a tracked bend, and
+// the fixed-point cost evaluation against the OpenCV float reference on
+// the same candidates.
+#include <cmath>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "cvsm_reference.hpp"
+#include "spinewatch/estimator/cvsm/tracker.hpp"
+#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
+
+namespace spinewatch {
+namespace {
+
+constexpr int kW = 320, kH = 240;
+
+BodyModel subject() {
+  BodyShape shape;
+  shape.height_mm = 1620;
+  shape.width_scale = 0.9;
+  return build_body_model(generic_cvsm_spec(), generic_spine_spec(), shape,
+                          {10, generic_spine_spec().l5_height_fraction * 1620, 0});
+}
+
+CvsmPose bend(double s) {
+  CvsmPose p;
+  p.flexion = 50 * s * 2 / 3;
+  p.pelvis_flexion = 50 * s / 3;
+  p.lateral = 10 * s;
+  p.twist = 5 * s;
+  return p;
+}
+
+cv::Mat background() {
+  cv::Mat bg(kH, kW, CV_8U);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(140 + 50 * x / kW + 10 * ((x / 8 + y / 8) % 2));
+  return bg;
+}
+
+cv::Mat frame(const cv::Mat& bg, const cv::Mat& person, std::mt19937& rng, double gain) {
+  std::normal_distribution<double> noise(0, 2);
+  cv::Mat out(kH, kW, CV_8U);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      out.at<std::uint8_t>(y, x) =
+          cv::saturate_cast<std::uint8_t>(gain * (person.at<std::uint8_t>(y, x) ? 60 : bg.at<std::uint8_t>(y, x)) + noise(rng));
+  return out;
+}
+
+LumaView view(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; }
+
+void BM_PairSilhouettesAndFit(benchmark::State& state) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel body = subject();
+  const cv::Mat bg = background();
+  std::mt19937 rng(1);
+  // A 0 → 50° → 0 bend over 60 frames, played back and forth.
+  std::vector<std::pair<cv::Mat, cv::Mat>> frames;
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 60; ++i) {
+    const double s = 0.5 - 0.5 * std::cos(2 * M_PI * i / 60.0);
+    control_points(body, pose_vertebrae(body, generic_spine_spec(), bend(s)), pts);
+    cv::Mat f(kH, kW, CV_8U), l(kH, kW, CV_8U);
+    test::render_reference(rig.frontal, body, pts, f);
+    test::render_reference(rig.lateral, body, pts, l);
+    const double gain = 1.0 + 0.03 * std::sin(i * 1.7);
+    frames.emplace_back(frame(bg, f, rng, gain), frame(bg, l, rng, gain));
+  }
+  SilhouetteOptions so;
+  so.background = BackgroundMode::Image;
+  SilhouetteExtractor ef(so), el(so);
+  (void)ef.set_background(view(bg));
+  (void)el.set_background(view(bg));
+  CvsmTracker tracker(rig, CvsmOptions{});
+  const auto& first = frames.front();
+  for (int i = 0; i < 12; ++i) tracker.track(ef.extract(view(first.first)), el.extract(view(first.second)));
+  std::size_t i = 0;
+  int lost = 0;
+  for (auto _ : state) {
+    const auto& [f, l] = frames[i++ % frames.size()];
+    const SilhouetteResult sf = ef.extract(view(f));
+    const SilhouetteResult sl = el.extract(view(l));
+    const CvsmResult r = tracker.track(sf, sl);
+    lost += r.state == TrackingState::Lost;
+    benchmark::DoNotOptimize(r.waist);
+  }
+  state.counters["lost"] = lost;
+}
+BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", [](const std::vector<double>& v) {
+  std::vector<double> s = v;
+  std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
+  return s[s.size() / 2];
+});
+
+void BM_SilhouettesOnly(benchmark::State& state) {
+  const cv::Mat bg = background();
+  std::mt19937 rng(2);
+  cv::Mat person(kH, kW, CV_8U, cv::Scalar(0));
+  cv::rectangle(person, cv::Rect(130, 30, 60, 210), 255, cv::FILLED);
+  const cv::Mat f = frame(bg, person, rng, 1.02);
+  SilhouetteOptions so;
+  so.background = BackgroundMode::Image;
+  SilhouetteExtractor ex(so);
+  (void)ex.set_background(view(bg));
+  for (auto _ : state) benchmark::DoNotOptimize(ex.extract(view(f)).pixels);
+}
+BENCHMARK(BM_SilhouettesOnly)->Unit(benchmark::kMicrosecond);
+
+struct Candidates {
+  CameraRig rig = CameraRig::default_rig();
+  BodyModel body = subject();
+  BitMask sf, sl;
+  cv::Mat mf, ml;
+  std::vector<std::vector<Eigen::Vector3d>> points;
+  Candidates() {
+    std::vector<Eigen::Vector3d> pts;
+    control_points(body, pose_vertebrae(body, generic_spine_spec(), bend(0.5)), pts);
+    mf = cv::Mat(kH, kW, CV_8U);
+    ml = cv::Mat(kH, kW, CV_8U);
+    test::render_reference(rig.frontal, body, pts, mf);
+    test::render_reference(rig.lateral, body, pts, ml);
+    sf = test::to_mask(mf);
+    sl = test::to_mask(ml);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> s(0.3, 0.7), t(-20, 20);
+    for (int i = 0; i < 64; ++i) {
+      CvsmPose p = bend(s(rng));
+      p.translation = {t(rng), 0, t(rng)};
+      control_points(body, pose_vertebrae(body, generic_spine_spec(), p), pts);
+      points.push_back(pts);
+    }
+  }
+};
+
+void BM_CostFixedPoint(benchmark::State& state) {
+  Candidates c;
+  XorCost cost(c.rig, kW, kH);
+  cost.set_silhouettes(c.sf, c.sl);
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(c.body, c.points[i++ % c.points.size()]).total());
+}
+BENCHMARK(BM_CostFixedPoint)->Unit(benchmark::kMicrosecond);
+
+void BM_CostOpenCvReference(benchmark::State& state) {
+  Candidates c;
+  cv::Mat scratch, diff;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& pts = c.points[i++ % c.points.size()];
+    benchmark::DoNotOptimize(test::reference_xor(c.rig.frontal, c.body, pts, c.mf, scratch, diff) +
+                             test::reference_xor(c.rig.lateral, c.body, pts, c.ml, scratch, diff));
+  }
+}
+BENCHMARK(BM_CostOpenCvReference)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace spinewatch
+
+BENCHMARK_MAIN();

@@ -1,0 +1,78 @@
+#pragma once
+// Publishes NDJSON lines to every client of a TCP port and a Unix socket,
+// on its own Boost.Asio thread (interfaces.md §5). Each client gets the hello
+// line first, then every published line in order. A client that does not
+// keep up overflows its bounded queue and is dropped; what clients send is
+// read and thrown away, and a client that sends too much is dropped too.
+// publish() never blocks on a socket: the pipeline and the other clients
+// never wait for anyone.
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+struct TcpEndpoint {
+  std::string host;        // numeric address or name, e.g. "127.0.0.1", "::"
+  std::uint16_t port = 0;  // 0: any free port (tests)
+};
+
+struct PublisherOptions {
+  std::optional<TcpEndpoint> tcp;
+  std::optional<std::filesystem::path> unix_socket;
+  std::size_t client_queue = 256;  // lines queued per client before it is dropped
+  std::size_t max_clients = 32;    // further connections are closed at once
+  std::size_t inbox = 1024;        // lines waiting for the I/O thread (oldest dropped)
+  // Clients need send nothing; a client that sends more than this in any
+  // one-second window, or more than max_input_bytes in all, is dropped.
+  std::size_t max_input_bytes_per_s = 1024;
+  std::size_t max_input_bytes = 16 * 1024;
+  int send_buffer_bytes = 0;  // SO_SNDBUF for client sockets; 0: the kernel's default
+};
+
+struct PublisherStats {
+  std::uint64_t clients = 0;           // connected now
+  std::uint64_t clients_total = 0;     // accepted since start
+  std::uint64_t clients_dropped = 0;   // dropped for a queue overflow or too much input
+  std::uint64_t clients_rejected = 0;  // refused because max_clients were connected
+  std::uint64_t lines = 0;             // lines published
+  std::uint64_t lines_dropped = 0;     // lines dropped from the inbox (I/O thread behind)
+};
+
+// "HOST:PORT" ("[::1]:7117" for IPv6) → endpoint; "none" is the caller's business.
+Result<TcpEndpoint> parse_listen_address(const std::string& text);
+// $RUNTIME_DIRECTORY/posture.sock (its first entry), else /run/spinewatch/posture.sock.
+std::filesystem::path default_unix_socket_path();
+
+class Publisher {
+ public:
+  // Binds the sockets (removing a stale Unix socket file) and starts the I/O thread.
+  static Result<std::unique_ptr<Publisher>> start(const PublisherOptions& options, std::string hello_line);
+  ~Publisher();  // stop()
+  Publisher(const Publisher&) = delete;
+  Publisher& operator=(const Publisher&) = delete;
+
+  // Thread-safe; `line` without its newline.
+  void publish(std::string line);
+  // The hello line for clients that connect from now on.
+  void set_hello(std::string line);
+  // Stops accepting, gives clients a moment to receive what is queued (whole
+  // lines only), closes them, removes the Unix socket file, joins. Idempotent.
+  void stop();
+
+  std::uint16_t tcp_port() const;  // the bound port (0 when TCP is off)
+  std::optional<std::filesystem::path> unix_socket() const;
+  PublisherStats stats() const;
+
+ private:
+  Publisher();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace spinewatch

@@ -1,0 +1,256 @@
+#include "daemon.hpp"
+
+#include <atomic>
+#include <csignal>
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+
+#include <boost/asio.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "spinewatch/daemon/camera_pair_source.hpp"
+#include "spinewatch/daemon/config_reload.hpp"
+#include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/daemon/notifier.hpp"
+#include "spinewatch/daemon/pipeline.hpp"
+#include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/recording_pair_source.hpp"
+#include "spinewatch/daemon/source_plan.hpp"
+#include "spinewatch/daemon/stream_lines.hpp"
+#include "spinewatch/estimator/pipeline.hpp"
+
+namespace spinewatch {
+
+namespace asio = boost::asio;
+
+namespace {
+
+// The recording's own calibration describes the rig it was made with; then
+// the station's; then the documented default rig.
+Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan) {
+  std::vector<std::filesystem::path> candidates;
+  if (plan.kind == SourcePlan::Kind::Recording) candidates.push_back(plan.recording / "calibration.yaml");
+  candidates.emplace_back(config.cameras.calibration);
+  for (const auto& path : candidates) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) continue;
+    auto rig = load_calibration(path);
+    if (!rig) return rig.error();
+    spdlog::info("calibration: {}", path.string());
+    return rig;
+  }
+  spdlog::info("calibration: {} not found; using the default rig (docs/calibration.md)", config.cameras.calibration);
+  return CameraRig::default_rig();
+}
+
+Result<PublisherOptions> publisher_options(const Config& config, const DaemonOverrides& overrides) {
+  PublisherOptions o;
+  const std::string listen = overrides.listen.value_or(config.publish.listen);
+  if (listen != "none") {
+    auto endpoint = parse_listen_address(listen);
+    if (!endpoint) return Error{(overrides.listen ? "--listen " : "publish.listen: ") + endpoint.error().message};
+    o.tcp = *endpoint;
+  }
+  const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
+  if (unix_path != "none") o.unix_socket = unix_path.empty() ? default_unix_socket_path() : std::filesystem::path(unix_path);
+  if (!o.tcp && !o.unix_socket) return Error{"publishing is off on both TCP and the Unix socket: nothing would be served"};
+  o.client_queue = static_cast<std::size_t>(config.publish.client_queue);
+  o.max_clients = static_cast<std::size_t>(config.publish.max_clients);
+  return o;
+}
+
+}  // namespace
+
+struct Daemon::Impl {
+  std::filesystem::path config_path;
+  Config config;
+  DaemonOverrides overrides;
+  CameraRig rig;
+  std::string source_name;
+  std::unique_ptr<Publisher> publisher;
+  std::unique_ptr<Pipeline> pipeline;
+  SystemdNotifier notifier;
+
+  asio::io_context control;  // main thread: signals, timers, sd_notify
+  std::atomic<bool> first_pair{false};
+  std::atomic<int> last_state{static_cast<int>(TrackingState::Lost)};
+  bool source_end_reported = false;
+
+  // Status bookkeeping (control thread only).
+  std::uint64_t pairs_at_last_status = 0;
+  std::chrono::steady_clock::time_point last_status_time = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_log_time = std::chrono::steady_clock::now();
+  std::uint64_t pairs_at_last_log = 0;
+  std::uint64_t pairs_at_last_watchdog = 0;
+
+  StreamStats stream_stats() const {
+    const auto p = pipeline->stats();
+    const auto c = publisher->stats();
+    return {p.pairs, p.pairs_dropped, p.source.frames_lost, c.clients, c.clients_dropped};
+  }
+
+  std::string status_text(double rate) const {
+    const auto s = stream_stats();
+    return fmt::format("{:.1f} pairs/s, {} pairs, {} dropped, {} frames lost, {} clients ({} dropped), {}", rate,
+                       s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
+                       to_string(static_cast<TrackingState>(last_state.load())));
+  }
+
+  // On the estimator thread: encode and hand over; never blocks.
+  void on_posture(const Posture& posture) {
+    last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
+    publisher->publish(encode_posture_line(posture, stream_stats()));
+    if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
+  }
+
+  void on_first_pair() {
+    notifier.ready();
+    spdlog::info("frames flow from {}; ready", source_name);
+  }
+
+  void every_second(asio::steady_timer& timer) {
+    timer.expires_after(std::chrono::seconds(1));
+    timer.async_wait([this, &timer](const boost::system::error_code& ec) {
+      if (ec) return;
+      const auto now = std::chrono::steady_clock::now();
+      const std::uint64_t pairs = pipeline->stats().pairs_processed;
+      const double seconds = std::chrono::duration<double>(now - last_status_time).count();
+      notifier.status(status_text(seconds > 0 ? static_cast<double>(pairs - pairs_at_last_status) / seconds : 0.0));
+      pairs_at_last_status = pairs;
+      last_status_time = now;
+      if (now - last_log_time >= std::chrono::seconds(config.log.status_interval_s)) {
+        const double log_seconds = std::chrono::duration<double>(now - last_log_time).count();
+        spdlog::info("status: {}", status_text(static_cast<double>(pairs - pairs_at_last_log) / log_seconds));
+        pairs_at_last_log = pairs;
+        last_log_time = now;
+      }
+      if (pipeline->source_finished() && !source_end_reported) {
+        // Cameras retry on their own and recordings loop, so this is a fault:
+        // keep serving; the watchdog (no pairs, no WATCHDOG=1) restarts us.
+        spdlog::error("the frame source {} ended; no more postures", source_name);
+        source_end_reported = true;
+      }
+      every_second(timer);
+    });
+  }
+
+  // WATCHDOG=1 only while pairs flow, so a stalled pipeline gets restarted.
+  void watchdog(asio::steady_timer& timer, std::chrono::microseconds interval) {
+    timer.expires_after(interval / 2);
+    timer.async_wait([this, &timer, interval](const boost::system::error_code& ec) {
+      if (ec) return;
+      const std::uint64_t pairs = pipeline->stats().pairs_processed;
+      if (pairs != pairs_at_last_watchdog) notifier.watchdog();
+      pairs_at_last_watchdog = pairs;
+      watchdog(timer, interval);
+    });
+  }
+
+  void reload() {
+    auto fresh = load_config(config_path);
+    if (!fresh) {
+      spdlog::error("reload: {}; keeping the running configuration", fresh.error().message);
+      return;
+    }
+    std::vector<std::string> applied, need_restart;
+    for (const auto& key : changed_keys(config, *fresh)) (reloadable_key(key) ? applied : need_restart).push_back(key);
+    if (fresh->log.level != config.log.level)
+      spdlog::default_logger()->set_level(spdlog::level::from_str(fresh->log.level));
+    if (fresh->station.name != config.station.name)
+      publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name));
+    config.station = fresh->station;
+    config.log = fresh->log;
+    if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());
+    if (!applied.empty()) spdlog::info("reload: applied {}", fmt::join(applied, ", "));
+    if (!need_restart.empty())
+      spdlog::warn("reload: {} changed; restart the daemon to apply (still running with the old values)",
+                   fmt::join(need_restart, ", "));
+  }
+
+  void wait_signals(asio::signal_set& signals) {
+    signals.async_wait([this, &signals](const boost::system::error_code& ec, int signo) {
+      if (ec) return;
+      if (signo == SIGHUP) {
+        spdlog::info("SIGHUP: reloading {}", config_path.string());
+        reload();
+        wait_signals(signals);
+        return;
+      }
+      spdlog::info("{}: stopping", signo == SIGTERM ? "SIGTERM" : "SIGINT");
+      control.stop();
+    });
+  }
+};
+
+Daemon::Daemon() : impl_(std::make_unique<Impl>()) {}
+Daemon::~Daemon() = default;
+
+Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path, Config config,
+                                               DaemonOverrides overrides) {
+  std::unique_ptr<Daemon> daemon(new Daemon());
+  Impl& d = *daemon->impl_;
+  d.config_path = std::move(config_path);
+  d.config = std::move(config);
+  d.overrides = std::move(overrides);
+
+  auto plan = plan_source(d.config);
+  if (!plan) return plan.error();
+  spdlog::info("source: {}", plan->why);
+  if (plan->kind == SourcePlan::Kind::Cameras && d.config.cameras.source == "libcamera")
+    return Error{"cameras.source = \"libcamera\": not available in this build; use \"v4l2\""};
+  if (plan->embedded)
+    spdlog::info("running the embedded default: phantom recording {} replayed in a loop at its recorded rate",
+                 plan->recording.string());
+
+  auto rig = load_rig(d.config, *plan);
+  if (!rig) return rig.error();
+  d.rig = *rig;
+
+  auto source = plan->kind == SourcePlan::Kind::Cameras
+                    ? open_camera_pair_source(camera_pair_options(d.config))
+                    : open_recording_pair_source(plan->recording, {.paced = plan->paced, .loop = true});
+  if (!source) return source.error();
+  d.source_name = (*source)->describe();
+  if (!plan->paced) spdlog::info("replaying {} as fast as the estimator takes pairs (cameras.replay = \"fast\")", d.source_name);
+
+  auto options = publisher_options(d.config, d.overrides);
+  if (!options) return options.error();
+  auto publisher = Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name));
+  if (!publisher) return publisher.error();
+  d.publisher = std::move(publisher).value();
+  if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());
+  if (options->unix_socket) spdlog::info("publishing on unix socket {}", options->unix_socket->string());
+
+  auto estimator = std::make_shared<PostureEstimator>(d.rig, estimator_options(d.config));
+  d.pipeline = std::make_unique<Pipeline>(
+      std::move(source).value(), [estimator](const FramePair& pair) { return estimator->process(pair); },
+      [&d](const Posture& posture) { d.on_posture(posture); },
+      PipelineOptions{.pair_queue = 4, .lossless = plan->kind == SourcePlan::Kind::Recording && !plan->paced});
+  return daemon;
+}
+
+int Daemon::run() {
+  Impl& d = *impl_;
+  asio::signal_set signals(d.control, SIGINT, SIGTERM, SIGHUP);
+  d.wait_signals(signals);
+  asio::steady_timer status_timer(d.control), watchdog_timer(d.control);
+  d.every_second(status_timer);
+  if (auto interval = SystemdNotifier::watchdog_interval()) {
+    spdlog::info("systemd watchdog: every {} ms while pairs flow", interval->count() / 2000);
+    d.watchdog(watchdog_timer, *interval);
+  }
+  d.pipeline->start();
+  d.control.run();
+
+  d.notifier.stopping();
+  const auto t0 = std::chrono::steady_clock::now();
+  d.pipeline->stop();
+  d.publisher->stop();
+  spdlog::info("stopped in {} ms; {}",
+               std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
+               d.status_text(0.0));
+  return 0;
+}
+
+}  // namespace spinewatch

@@ -1,0 +1,47 @@
+// spinewatchd: the posture station daemon (interfaces.md §4–§6).
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "daemon.hpp"
+#include "spinewatch/daemon/logging.hpp"
+#include "spinewatch/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace spinewatch;
+  CLI::App app{"spinewatchd: spine posture daemon; publishes the posture stream on its sockets", "spinewatchd"};
+  app.set_version_flag("--version", kVersion);
+  std::string config_path = "/etc/spinewatch/spinewatch.toml";
+  std::string listen, unix_socket;
+  app.add_option("--config", config_path, "TOML configuration file")->capture_default_str();
+  auto* listen_opt = app.add_option("--listen", listen, "TCP address HOST:PORT, or none (overrides publish.listen)");
+  auto* unix_opt = app.add_option("--unix", unix_socket, "Unix socket path, or none (overrides publish.unix_socket)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+
+  setup_logging("info");
+  auto config = load_config(config_path);
+  if (!config) {
+    spdlog::error("{}", config.error().message);
+    return 1;
+  }
+  setup_logging(config->log.level);
+  spdlog::info("spinewatchd {} starting, station \"{}\", config {}", kVersion, config->station.name, config_path);
+
+  DaemonOverrides overrides;
+  if (*listen_opt) overrides.listen = listen;
+  if (*unix_opt) overrides.unix_socket = unix_socket;
+  auto daemon = Daemon::create(config_path, std::move(config).value(), overrides);
+  if (!daemon) {
+    spdlog::error("{}", daemon.error().message);
+    return 1;
+  }
+  return (*daemon)->run();
+}

@@ -1,0 +1,67 @@
+#include "spinewatch/daemon/config_reload.hpp"
+
+#include <functional>
+#include <sstream>
+
+namespace spinewatch {
+namespace {
+
+struct Field {
+  const char* key;
+  std::function<std::string(const Config&)> value;  // a printable form, for comparison only
+};
+
+template <class T>
+std::string text(const T& v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+#define SW_FIELD(section, name) Field{#section "." #name, [](const Config& c) { return text(c.section.name); }}
+
+const std::vector<Field>& fields() {
+  static const std::vector<Field> table = {
+      SW_FIELD(station, name),
+      SW_FIELD(cameras, source), SW_FIELD(cameras, frontal), SW_FIELD(cameras, lateral),
+      SW_FIELD(cameras, pixel_format), SW_FIELD(cameras, width), SW_FIELD(cameras, height),
+      SW_FIELD(cameras, fps), SW_FIELD(cameras, exposure_us), SW_FIELD(cameras, gain),
+      SW_FIELD(cameras, buffers), SW_FIELD(cameras, calibration), SW_FIELD(cameras, recording), SW_FIELD(cameras, replay),
+      SW_FIELD(cameras, watchdog_s),
+      SW_FIELD(trigger, mode), SW_FIELD(trigger, chip), SW_FIELD(trigger, line),
+      SW_FIELD(trigger, pulse_us), SW_FIELD(trigger, controller),
+      SW_FIELD(silhouette, background), SW_FIELD(silhouette, learn_frames), SW_FIELD(silhouette, threshold),
+      SW_FIELD(silhouette, min_blob_px), SW_FIELD(silhouette, background_frontal),
+      SW_FIELD(silhouette, background_lateral),
+      SW_FIELD(cvsm, model), SW_FIELD(cvsm, subject_frames), SW_FIELD(cvsm, lost_cost),
+      SW_FIELD(spine, model), SW_FIELD(spine, voxel_mm), SW_FIELD(spine, substeps),
+      SW_FIELD(subject, mass_kg), SW_FIELD(subject, height_mm),
+      SW_FIELD(publish, listen), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
+      SW_FIELD(publish, max_clients),
+      SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
+  };
+  return table;
+}
+
+#undef SW_FIELD
+
+}  // namespace
+
+std::vector<std::string> changed_keys(const Config& before, const Config& after) {
+  std::vector<std::string> changed;
+  for (const auto& f : fields())
+    if (f.value(before) != f.value(after)) changed.emplace_back(f.key);
+  return changed;
+}
+
+bool reloadable_key(const std::string& key) {
+  return key == "station.name" || key == "log.level" || key == "log.status_interval_s";
+}
+
+std::vector<std::string> compared_keys() {
+  std::vector<std::string> keys;
+  for (const auto& f : fields()) keys.emplace_back(f.key);
+  return keys;
+}
+
+}  // namespace spinewatch

@@ -1,0 +1,320 @@
+#include "spinewatch/daemon/publisher.hpp"
+
+#include <sys/socket.h>
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cstring>
+#include <future>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+
+#include <boost/asio.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "client_session.hpp"
+
+namespace spinewatch {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+using unix_socket = asio::local::stream_protocol;
+using detail::CloseKind;
+using detail::Line;
+
+struct Publisher::Impl {
+  // Declared first so that it is destroyed last, after every socket.
+  asio::io_context io;
+  asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
+  PublisherOptions options;
+  std::optional<tcp::acceptor> tcp_acceptor;
+  std::optional<unix_socket::acceptor> unix_acceptor;
+  std::optional<asio::steady_timer> retry_timer;
+  std::uint16_t tcp_port = 0;
+  std::map<detail::ClientSession*, std::shared_ptr<detail::ClientSession>> clients;  // I/O thread only
+  Line hello;                                                                          // I/O thread only
+  std::uint64_t next_client_id = 1;
+
+  std::mutex inbox_mutex;
+  std::deque<std::string> inbox;
+  bool drain_posted = false;
+
+  std::atomic<std::uint64_t> clients_now{0}, clients_total{0}, clients_dropped{0}, clients_rejected{0};
+  std::atomic<std::uint64_t> lines{0}, lines_dropped{0};
+  std::thread thread;
+  bool stopped = false;
+  bool owns_unix_path = false;  // only a socket we bound is removed on stop
+
+  detail::SessionLimits limits() const {
+    return {options.client_queue, options.max_input_bytes_per_s, options.max_input_bytes};
+  }
+
+  template <class Acceptor>
+  void accept_next(Acceptor& acceptor, const char* kind) {
+    acceptor.async_accept([this, &acceptor, kind](const boost::system::error_code& ec, typename Acceptor::protocol_type::socket socket) {
+      if (ec == asio::error::operation_aborted || !acceptor.is_open()) return;
+      if (ec) {
+        // E.g. out of file descriptors: say so, back off briefly, keep serving the others.
+        spdlog::error("publisher: accepting a {} client failed: {}", kind, ec.message());
+        retry_timer->expires_after(std::chrono::milliseconds(100));
+        retry_timer->async_wait([this, &acceptor, kind](const boost::system::error_code& e) {
+          if (!e) accept_next(acceptor, kind);
+        });
+        return;
+      }
+      add_client(std::move(socket), kind);
+      accept_next(acceptor, kind);
+    });
+  }
+
+  template <class Socket>
+  void add_client(Socket socket, const char* kind) {
+    const std::uint64_t id = next_client_id++;
+    std::string name = fmt::format("#{} ({})", id, kind);
+    if constexpr (std::is_same_v<Socket, tcp::socket>) {
+      boost::system::error_code ec;
+      const auto peer = socket.remote_endpoint(ec);
+      if (!ec) name = fmt::format("#{} ({} {}:{})", id, kind, peer.address().to_string(), peer.port());
+    }
+    if (clients.size() >= options.max_clients) {
+      clients_rejected.fetch_add(1);
+      spdlog::warn("publisher: client {} refused: {} clients connected (publish.max_clients)", name, clients.size());
+      boost::system::error_code ignored;
+      socket.close(ignored);
+      return;
+    }
+    if (options.send_buffer_bytes > 0) {
+      boost::system::error_code ignored;
+      socket.set_option(asio::socket_base::send_buffer_size(options.send_buffer_bytes), ignored);
+    }
+    auto session = std::make_shared<detail::SocketSession<Socket>>(
+        std::move(socket), name, limits(), [this](detail::ClientSession& s, CloseKind kind, std::string_view reason) {
+          on_closed(s, kind, reason);
+        });
+    clients.emplace(session.get(), session);
+    clients_now.store(clients.size());
+    clients_total.fetch_add(1);
+    spdlog::info("publisher: client {} connected ({} now)", name, clients.size());
+    session->start(hello);
+  }
+
+  void on_closed(detail::ClientSession& session, CloseKind kind, std::string_view reason) {
+    if (kind == CloseKind::Dropped) {
+      clients_dropped.fetch_add(1);
+      spdlog::warn("publisher: client {} dropped: {}", session.name(), reason);
+    } else {
+      spdlog::info("publisher: client {} {}", session.name(), reason);
+    }
+    // Handlers still in flight hold their own reference; this only forgets it.
+    clients.erase(&session);
+    clients_now.store(clients.size());
+  }
+
+  void drain() {
+    std::deque<std::string> batch;
+    {
+      std::lock_guard lock(inbox_mutex);
+      batch.swap(inbox);
+      drain_posted = false;
+    }
+    if (batch.empty()) return;
+    // A session may close (and leave `clients`) while lines are delivered.
+    std::vector<std::shared_ptr<detail::ClientSession>> targets;
+    targets.reserve(clients.size());
+    for (auto& [key, session] : clients) targets.push_back(session);
+    for (auto& text : batch) {
+      const Line line = std::make_shared<const std::string>(std::move(text));
+      lines.fetch_add(1, std::memory_order_relaxed);
+      for (auto& session : targets) session->deliver(line);
+    }
+  }
+
+  void close_acceptors() {
+    boost::system::error_code ignored;
+    if (tcp_acceptor) tcp_acceptor->close(ignored);
+    if (unix_acceptor) unix_acceptor->close(ignored);
+    if (retry_timer) retry_timer->cancel();
+  }
+
+  template <class Fn>
+  void run_on_io(Fn fn) {
+    std::promise<void> done;
+    auto future = done.get_future();
+    asio::post(io, [&] {
+      fn();
+      done.set_value();
+    });
+    future.wait();
+  }
+};
+
+namespace {
+
+Status bind_tcp(asio::io_context& io, const TcpEndpoint& where, std::optional<tcp::acceptor>& out,
+                std::uint16_t& port) {
+  const std::string label = fmt::format("{}:{}", where.host, where.port);
+  boost::system::error_code ec;
+  tcp::endpoint endpoint;
+  auto address = asio::ip::make_address(where.host, ec);
+  if (!ec) {
+    endpoint = tcp::endpoint(address, where.port);
+  } else {
+    tcp::resolver resolver(io);
+    auto results = resolver.resolve(where.host, std::to_string(where.port), ec);
+    if (ec || results.empty()) return Error{fmt::format("listen address {}: cannot resolve \"{}\": {}", label, where.host, ec.message())};
+    endpoint = *results.begin();
+  }
+  tcp::acceptor acceptor(io);
+  if (acceptor.open(endpoint.protocol(), ec); ec) return Error{fmt::format("listen address {}: {}", label, ec.message())};
+  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
+  if (acceptor.bind(endpoint, ec); ec) return Error{fmt::format("listen address {}: cannot bind: {}", label, ec.message())};
+  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
+    return Error{fmt::format("listen address {}: cannot listen: {}", label, ec.message())};
+  port = acceptor.local_endpoint().port();
+  out.emplace(std::move(acceptor));
+  return Ok{};
+}
+
+// A socket file left by a daemon that died is removed; one that a live
+// daemon still answers on is not stolen.
+Status remove_stale_socket(asio::io_context& io, const std::filesystem::path& path) {
+  std::error_code fs_ec;
+  const auto status = std::filesystem::symlink_status(path, fs_ec);
+  if (fs_ec || !std::filesystem::exists(status)) return Ok{};
+  if (!std::filesystem::is_socket(status))
+    return Error{fmt::format("unix socket {}: exists and is not a socket", path.string())};
+  unix_socket::socket probe(io);
+  boost::system::error_code ec;
+  probe.connect(unix_socket::endpoint(path.string()), ec);
+  if (!ec) return Error{fmt::format("unix socket {}: another process is listening on it", path.string())};
+  if (!std::filesystem::remove(path, fs_ec) && fs_ec)
+    return Error{fmt::format("unix socket {}: cannot remove the stale socket: {}", path.string(), fs_ec.message())};
+  spdlog::info("publisher: removed stale socket {}", path.string());
+  return Ok{};
+}
+
+Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unix_socket::acceptor>& out) {
+  if (auto removed = remove_stale_socket(io, path); !removed) return removed;
+  boost::system::error_code ec;
+  unix_socket::acceptor acceptor(io);
+  if (acceptor.open(unix_socket(), ec); ec) return Error{fmt::format("unix socket {}: {}", path.string(), ec.message())};
+  if (acceptor.bind(unix_socket::endpoint(path.string()), ec); ec)
+    return Error{fmt::format("unix socket {}: cannot bind: {}", path.string(), ec.message())};
+  if (::chmod(path.c_str(), 0660) != 0)
+    return Error{fmt::format("unix socket {}: cannot set mode 0660: {}", path.string(), std::strerror(errno))};
+  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
+    return Error{fmt::format("unix socket {}: cannot listen: {}", path.string(), ec.message())};
+  out.emplace(std::move(acceptor));
+  return Ok{};
+}
+
+}  // namespace
+
+Publisher::Publisher() : impl_(std::make_unique<Impl>()) {}
+
+Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& options, std::string hello_line) {
+  std::unique_ptr<Publisher> p(new Publisher());
+  Impl& impl = *p->impl_;
+  impl.options = options;
+  if (impl.options.client_queue == 0) impl.options.client_queue = 1;
+  hello_line.push_back('\n');
+  impl.hello = std::make_shared<const std::string>(std::move(hello_line));
+  impl.retry_timer.emplace(impl.io);
+  if (options.tcp)
+    if (auto bound = bind_tcp(impl.io, *options.tcp, impl.tcp_acceptor, impl.tcp_port); !bound) return bound.error();
+  if (options.unix_socket)
+    if (auto bound = bind_unix(impl.io, *options.unix_socket, impl.unix_acceptor); !bound) return bound.error();
+  impl.owns_unix_path = impl.unix_acceptor.has_value();
+  if (impl.tcp_acceptor) impl.accept_next(*impl.tcp_acceptor, "tcp");
+  if (impl.unix_acceptor) impl.accept_next(*impl.unix_acceptor, "unix");
+  impl.thread = std::thread([&impl] {
+    for (;;) {
+      try {
+        impl.io.run();
+        return;
+      } catch (const std::exception& e) {
+        spdlog::error("publisher: {}", e.what());  // keep serving
+      }
+    }
+  });
+  return p;
+}
+
+Publisher::~Publisher() { stop(); }
+
+void Publisher::publish(std::string line) {
+  line.push_back('\n');
+  bool post = false;
+  {
+    std::lock_guard lock(impl_->inbox_mutex);
+    if (impl_->stopped) return;
+    if (impl_->inbox.size() >= impl_->options.inbox) {
+      impl_->inbox.pop_front();
+      impl_->lines_dropped.fetch_add(1, std::memory_order_relaxed);
+    }
+    impl_->inbox.push_back(std::move(line));
+    if (!impl_->drain_posted) post = impl_->drain_posted = true;
+  }
+  if (post) asio::post(impl_->io, [impl = impl_.get()] { impl->drain(); });
+}
+
+void Publisher::set_hello(std::string line) {
+  line.push_back('\n');
+  asio::post(impl_->io, [impl = impl_.get(), l = std::make_shared<const std::string>(std::move(line))] { impl->hello = l; });
+}
+
+void Publisher::stop() {
+  Impl& impl = *impl_;
+  {
+    std::lock_guard lock(impl.inbox_mutex);
+    if (impl.stopped) return;
+    impl.stopped = true;
+  }
+  if (impl.thread.joinable()) {
+    impl.run_on_io([&] {
+      impl.drain();
+      impl.close_acceptors();
+      std::vector<std::shared_ptr<detail::ClientSession>> all;
+      for (auto& [key, s] : impl.clients) all.push_back(s);
+      for (auto& s : all) s->finish();
+    });
+    // Clients that read get what is queued, as whole lines; the rest are cut off.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+    while (impl.clients_now.load() > 0 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    impl.run_on_io([&] {
+      std::vector<std::shared_ptr<detail::ClientSession>> all;
+      for (auto& [key, s] : impl.clients) all.push_back(s);
+      for (auto& s : all) s->close(CloseKind::Normal, "daemon stopped");
+    });
+    impl.work.reset();
+    impl.io.stop();
+    impl.thread.join();
+  }
+  impl.close_acceptors();
+  if (impl.owns_unix_path) {
+    std::error_code ignored;
+    std::filesystem::remove(*impl.options.unix_socket, ignored);
+  }
+}
+
+std::uint16_t Publisher::tcp_port() const { return impl_->tcp_port; }
+
+std::optional<std::filesystem::path> Publisher::unix_socket() const { return impl_->options.unix_socket; }
+
+PublisherStats Publisher::stats() const {
+  PublisherStats s;
+  s.clients = impl_->clients_now.load();
+  s.clients_total = impl_->clients_total.load();
+  s.clients_dropped = impl_->clients_dropped.load();
+  s.clients_rejected = impl_->clients_rejected.load();
+  s.lines = impl_->lines.load();
+  s.lines_dropped = impl_->lines_dropped.load();
+  return s;
+}
+
+}  // namespace spinewatch

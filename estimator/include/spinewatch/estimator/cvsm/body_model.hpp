@@ -1,0 +1,101 @@
+#pragma once
+// The Connected Vertebra Spheres Model (paper §2.1): spheres T1…L5 on the
+// spine, each holding a control plane of body-outline control points, plus
+// the control planes of what the silhouettes also show (pelvis, neck and
+// head, arms, legs). The outer shape is the solid between adjacent control
+// planes of a chain.
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "spinewatch/estimator/anatomy/kinematics.hpp"
+#include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+inline constexpr int kControlPoints = 12;  // every 30°
+
+// config/cvsm-generic.toml: every length a fraction of standing height.
+struct CvsmSpec {
+  struct Trunk {
+    double half_width = 0, depth = 0, spine_fraction = 0.3;
+  };
+  struct Part {
+    std::string chain;   // pelvis | head | arm | leg
+    std::string attach;  // vertebra name or "hip"
+    double y = 0, x = 0, z = 0;
+    double half_width = 0, front = 0, back = 0;
+  };
+  std::array<Trunk, kVertebraCount> trunk{};
+  std::vector<Part> parts;
+  double hip_y = 0.53, hip_x = 0, hip_z = 0.05, thigh = 0.245;
+};
+Result<CvsmSpec> parse_cvsm_spec(std::string_view toml_text, std::string_view source);
+const CvsmSpec& generic_cvsm_spec();
+std::string_view generic_cvsm_toml();
+
+enum class SubjectPosture : std::uint8_t { Standing, Seated };
+
+// What makes a subject's model differ from the generic one.
+struct BodyShape {
+  double height_mm = 1750;
+  double width_scale = 1.0;     // trunk, pelvis and head half-widths
+  double depth_scale = 1.0;     // trunk, pelvis and head depths
+  double shoulder_scale = 1.0;  // lateral offset of the arms
+  double limb_scale = 1.0;      // arm and leg girth
+  // Neck length and head height relative to the generic proportions (the
+  // head's planes sit this much farther above T1): people differ far more
+  // in where their head ends than the height fractions of the trunk say,
+  // and the measured crown must not drag the spine up or down.
+  double head_scale = 1.0;
+  // Measured per-level trunk depths (mm), overriding depth × depth_scale
+  // where > 0; the spine keeps its generic fraction of the depth.
+  std::array<double, kVertebraCount> measured_depth_mm{};
+  SubjectPosture posture = SubjectPosture::Standing;
+};
+
+// One control plane: a 12-point ellipse-like ring in its frame's XZ plane
+// (or YZ plane when axis_x, for horizontal limbs).
+struct ControlPlane {
+  int frame = 0;              // 0…16 vertebra, kLegLeftFrame, kLegRightFrame
+  Eigen::Vector3d offset{0, 0, 0};  // ring centre in the frame, mm
+  bool axis_x = false;
+  double half_width = 0, front = 0, back = 0;  // mm
+};
+inline constexpr int kLegLeftFrame = 17, kLegRightFrame = 18, kFrameCount = 19;
+
+// The subject-specific model: control planes and chains (indices into
+// planes, adjacent entries bound one solid segment).
+struct BodyModel {
+  BodyShape shape;
+  SpinePose neutral;                       // spine neutral pose, L5 at base_l5
+  std::vector<ControlPlane> planes;
+  std::vector<std::vector<int>> chains;
+  Eigen::Vector3d hip_left{0, 0, 0}, hip_right{0, 0, 0};  // hip joints in L5's frame
+  // Local control-point offsets, planes.size() × kControlPoints, in each frame.
+  std::vector<Eigen::Vector3d> local_points;
+};
+
+// neutral L5 body centre: (x, l5_height_fraction·H or seat, z).
+BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const BodyShape& shape,
+                           const Eigen::Vector3d& l5_center);
+
+// The primitive deformations: whole-spine flexion/extension, lateral
+// bending and axial twist spread over the levels by range of motion
+// (distribute()), pelvis tilt and translation.
+struct CvsmPose {
+  double flexion = 0, lateral = 0, twist = 0;      // degrees, whole spine
+  double pelvis_flexion = 0, pelvis_lateral = 0;   // degrees, about the hip joints
+  Eigen::Vector3d translation{0, 0, 0};            // mm, of the hip joints (and L5) from neutral
+};
+
+SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
+// World control points of every plane (planes.size() × kControlPoints).
+void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out);
+
+}  // namespace spinewatch

@@ -1,0 +1,64 @@
+#pragma once
+// The CVSM fit (paper §3.1): a subject-specific model built from the first
+// upright frames, then, per frame pair, a coarse-to-fine local search from
+// the previous solution minimising the exclusive-or of the model's outline
+// and both silhouettes; a global search (re)initialises when the cost says
+// tracking is lost.
+#include <memory>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/estimator/silhouette/bit_mask.hpp"
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
+
+namespace spinewatch {
+
+// Mirrors the [cvsm] keys of the station configuration.
+struct CvsmOptions {
+  int subject_frames = 10;       // upright frames that build the subject's model
+  double lost_cost = 0.35;       // XOR / silhouette pixels above which tracking is lost
+  double height_mm = 1750;       // used only when the head is cut off or the subject sits
+  std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
+  std::optional<CvsmSpec> model;          // nothing: the generic model built in
+  int min_silhouette_px = 600;   // fewer pixels in a view: no person
+  int local_budget = 48;         // cost evaluations per tracked frame
+  int global_budget = 400;       // cost evaluations for a (re)initialisation
+};
+
+struct CvsmResult {
+  TrackingState state = TrackingState::Lost;  // init while building the subject model, tracking, lost
+  Eigen::Vector3d neck = Eigen::Vector3d::Zero(), waist = Eigen::Vector3d::Zero();  // T1, L5 body centres, mm
+  Eigen::Vector3d neck_dir = Eigen::Vector3d::UnitY(), waist_dir = Eigen::Vector3d::UnitY();
+  SpinePose vertebrae{};  // the CVSM's own estimate of all 17
+  FitDiagnostics fit;     // cost, xor/silhouette pixel counts per view, candidates, flag
+  CvsmPose pose;          // the fitted deformation
+  bool valid() const { return state != TrackingState::Lost; }
+};
+
+class CvsmTracker {
+ public:
+  CvsmTracker(const CameraRig& rig, CvsmOptions options);
+  ~CvsmTracker();
+  CvsmTracker(CvsmTracker&&) noexcept;
+  CvsmTracker& operator=(CvsmTracker&&) noexcept;
+
+  CvsmResult track(const BitMask& frontal, const BitMask& lateral);
+  // Same, with the silhouette status of each view: no person → lost;
+  // two blobs / occluded → the fit runs on the largest blob and is flagged.
+  CvsmResult track(const SilhouetteResult& frontal, const SilhouetteResult& lateral);
+
+  // The subject model once built (during init: the current estimate).
+  const BodyModel* subject_model() const;
+  // Starts over: a new subject.
+  void reset();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace spinewatch

@@ -1,0 +1,85 @@
+#pragma once
+// The fit's cost, fast path: control points projected once per changed
+// control plane, each control ring reduced to its extreme points in eight
+// directions (an octagon, in Q8 pixels), the solid between two adjacent
+// rings scan-converted as the convex hull of the two octagons straight into
+// packed rows, and the exclusive-or against the silhouette counted with
+// popcount on the model's rows only (silhouette pixels on other rows are
+// counted once, from per-row totals). A candidate is abandoned as soon as
+// its partial count exceeds the best so far.
+//
+// Incremental: a candidate usually moves only some control planes (a spine
+// angle leaves the pelvis and legs where they were), so each view keeps the
+// last world points, projections and per-segment row spans, and only
+// planes whose points changed are projected and only segments touching
+// them are scan-converted again. The cache is keyed on the points
+// themselves, so it is exact whatever model or pose produced them.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
+#include "spinewatch/estimator/silhouette/bit_mask.hpp"
+
+namespace spinewatch {
+
+enum ViewIndex : int { kFrontal = 0, kLateral = 1 };
+
+struct XorCounts {
+  std::array<std::int64_t, 2> xor_px{};         // per view
+  std::array<std::int64_t, 2> silhouette_px{};  // per view
+  bool pruned = false;  // stopped early: xor_px is a lower bound above the limit
+  std::int64_t total() const { return xor_px[0] + xor_px[1]; }
+  double cost() const {
+    const auto s = silhouette_px[0] + silhouette_px[1];
+    return s > 0 ? static_cast<double>(total()) / static_cast<double>(s) : 1.0;
+  }
+};
+
+class XorCost {
+ public:
+  XorCost(const CameraRig& rig, int width, int height);
+
+  void set_silhouettes(const BitMask& frontal, const BitMask& lateral);
+  // Counts for the model with these world control points; stops early once
+  // the total exceeds `limit`.
+  XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
+                     std::int64_t limit = INT64_MAX);
+  // The model's mask in one view (tests, diagnostics, the subject model).
+  BitMask render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
+  // Projected control points of the last render/evaluate, per view (Q8).
+  const std::vector<PixelQ8>& projected(int view) const { return projected_[static_cast<std::size_t>(view)]; }
+
+ private:
+  static constexpr int kRingExtremes = 8;  // per ring: min/max along u, v, u+v, u−v
+  struct ViewCache {
+    std::vector<Eigen::Vector3d> world;  // the points the entries below belong to
+    std::vector<std::uint8_t> plane_in_front;
+    std::vector<std::uint32_t> plane_version;  // bumped whenever a plane's points change
+    std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, sorted by (v, u)
+    std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
+    std::vector<int> segment_r0, segment_rows;
+    std::vector<std::int16_t> x0, x1;  // segments × height spans (first, last pixel)
+  };
+  // Projects and fills the model's rows of view `view` into rows_; returns
+  // false when a point is behind the camera.
+  bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
+  bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
+  void scan_segment(ViewCache& cache, int segment, const PixelQ8* a, const PixelQ8* b) const;
+
+  std::array<FixedCamera, 2> cameras_;
+  std::array<std::array<double, 12>, 2> p_{};  // K·[R|t] per view (distortion-free path)
+  int width_, height_, words_;
+  std::array<const BitMask*, 2> silhouettes_{};
+  std::array<std::vector<std::int64_t>, 2> row_prefix_;  // silhouette pixels in rows < y
+  std::array<std::vector<PixelQ8>, 2> projected_;
+  std::array<ViewCache, 2> cache_;
+  std::vector<std::uint64_t> rows_;  // model rows, height × words
+  int y_lo_ = 0, y_hi_ = -1;          // rows touched
+};
+
+}  // namespace spinewatch

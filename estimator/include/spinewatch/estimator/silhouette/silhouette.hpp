@@ -1,0 +1,87 @@
+#pragma once
+// The person's silhouette in one view: background subtraction with exposure
+// compensation, cleaned to the person's blob, packed into a BitMask.
+// One extractor per view; it keeps that view's background model.
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "spinewatch/estimator/silhouette/bit_mask.hpp"
+#include "spinewatch/frames/frame.hpp"
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+// Mirrors the [silhouette] keys of the station configuration.
+enum class BackgroundMode : std::uint8_t {
+  Learn,      // mean of the first learn_frames frames (an empty scene)
+  Image,      // a stored background image given to set_background()
+  Threshold,  // the paper's plain threshold against a uniform backdrop
+};
+Result<BackgroundMode> parse_background_mode(std::string_view text);
+
+struct SilhouetteOptions {
+  BackgroundMode background = BackgroundMode::Learn;
+  int learn_frames = 10;
+  int threshold = 28;      // grey levels of |frame − gain·background| that make a pixel foreground
+  int min_blob_px = 600;   // smaller blobs are noise
+  double second_blob_fraction = 0.25;  // a second blob this large (of the first) → two_blobs
+};
+
+enum class SilhouetteStatus : std::uint8_t {
+  LearningBackground,  // no background yet; the mask is empty
+  NoPerson,            // no blob of min_blob_px
+  Person,              // one person blob, inside the image
+  TwoBlobs,            // a second large blob (another person, an object)
+  Occluded,            // the person's blob is cut by the left or right image border
+};
+std::string_view to_string(SilhouetteStatus status);
+// The FitDiagnostics flag for a status that is not a clean person ("" if clean).
+std::string_view flag_of(SilhouetteStatus status);
+
+struct SilhouetteResult {
+  SilhouetteStatus status = SilhouetteStatus::LearningBackground;
+  BitMask mask;                  // the largest blob only (empty image when none)
+  std::int64_t pixels = 0;       // set pixels of mask
+  double gain = 1.0;             // estimated frame / background exposure ratio
+  int blobs = 0;                 // blobs of at least min_blob_px
+  std::int64_t second_blob_px = 0;
+};
+
+class SilhouetteExtractor {
+ public:
+  explicit SilhouetteExtractor(SilhouetteOptions options = {});
+
+  // Replaces the background (BackgroundMode::Image, or to skip learning).
+  Status set_background(const LumaView& background);
+  bool background_ready() const;
+  const std::vector<std::uint8_t>& background() const { return background_; }
+
+  SilhouetteResult extract(const LumaView& frame);
+
+ private:
+  void learn(const LumaView& frame);
+  double estimate_gain(const LumaView& frame) const;
+  void threshold_to_bits(const LumaView& frame, double gain, BitMask& out) const;
+
+  SilhouetteOptions options_;
+  int width_ = 0, height_ = 0;
+  std::vector<std::uint8_t> background_;
+  std::vector<std::uint32_t> learn_sum_;
+  int learned_ = 0;
+  bool ready_ = false;
+};
+
+// Cleaning steps, exposed for tests.
+// 3×3-cross closing: fills one-pixel holes and cracks left by shading that
+// matches the background.
+void close_cross(BitMask& mask);
+struct BlobSummary {
+  std::int64_t largest_px = 0, second_px = 0;
+  int blobs = 0;  // of at least min_px
+  int x_min = 0, x_max = -1, y_min = 0, y_max = -1;  // bounding box of the largest
+};
+// Keeps only the largest 8-connected blob of `mask` (run-based labelling).
+BlobSummary keep_largest_blob(BitMask& mask, int min_px);
+
+}  // namespace spinewatch

@@ -1,0 +1,31 @@
+#pragma once
+// A subject's neutral spine (SUBJECT.json, interfaces.md §4):
+// {"vertebrae": [{"name": "T1", "body_center": [x,y,z], "q": [w,x,y,z],
+//   "height_mm": h, "width_mm": w, "depth_mm": d}, … T1…L5]}
+#include <array>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/estimator/spine/vertebra_geometry.hpp"
+#include "spinewatch/frames/result.hpp"
+
+namespace spinewatch {
+
+struct SubjectVertebra {
+  VertebraPose pose;  // neutral
+  BodyDims dims;
+};
+using SubjectSpine = std::array<SubjectVertebra, kVertebraCount>;
+
+// `source` names the file in error messages ("subject.json: vertebrae[3].q: …").
+Result<SubjectSpine> parse_subject_json(std::string_view text, std::string_view source);
+Result<SubjectSpine> load_subject_file(const std::filesystem::path& path);
+std::string subject_to_json(const SubjectSpine& subject);
+
+// The generic spec's neutral spine for a subject of `height_mm`.
+SubjectSpine generic_subject(double height_mm);
+SpinePose neutral_of(const SubjectSpine& subject);
+
+}  // namespace spinewatch

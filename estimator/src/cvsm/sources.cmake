@@ -1,0 +1,16 @@
+list(APPEND ESTIMATOR_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/cvsm_spec.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/body_model.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/fixed_camera.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/xor_cost.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/subject_estimate.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp)
+# The generic model, built into the library (like config/spine-generic.toml).
+embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp
+  ${SPINEWATCH_SOURCE_DIR}/config/cvsm-generic.toml generic_cvsm_toml)
+list(APPEND ESTIMATOR_SOURCES ${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp)
+# Hardware popcount for the XOR count (every x86-64 CPU since 2008 has it;
+# without the flag std::popcount is a libgcc call).
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
+  set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/xor_cost.cpp PROPERTIES COMPILE_OPTIONS -mpopcnt)
+endif()

@@ -1,0 +1,164 @@
+#include "subject_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "coordinate_search.hpp"
+
+namespace spinewatch::cvsm_detail {
+namespace {
+
+struct RowExtent {
+  int first = -1, last = -1;
+};
+
+RowExtent extent(const BitMask& m, int y) {
+  RowExtent e;
+  const std::uint64_t* row = m.row(y);
+  for (int w = 0; w < m.words_per_row(); ++w)
+    if (row[w]) {
+      if (e.first < 0) e.first = w * 64 + std::countr_zero(row[w]);
+      e.last = w * 64 + 63 - std::countl_zero(row[w]);
+    }
+  return e;
+}
+
+int top_row(const BitMask& m) {
+  for (int y = 0; y < m.height(); ++y)
+    if (extent(m, y).first >= 0) return y;
+  return -1;
+}
+
+// Median centre column of the rows between fractions a and b of the blob's height.
+double centre_column(const BitMask& m, int top, double a, double b) {
+  int bottom = top;
+  for (int y = top; y < m.height(); ++y)
+    if (extent(m, y).first >= 0) bottom = y;
+  std::vector<double> centres;
+  for (int y = top + static_cast<int>(a * (bottom - top)); y <= top + static_cast<int>(b * (bottom - top)); ++y) {
+    const RowExtent e = extent(m, y);
+    if (e.first >= 0) centres.push_back(0.5 * (e.first + e.last));
+  }
+  if (centres.empty()) return m.width() / 2.0;
+  std::nth_element(centres.begin(), centres.begin() + static_cast<std::ptrdiff_t>(centres.size() / 2), centres.end());
+  return centres[centres.size() / 2];
+}
+
+// Where the ray through `pixel` meets the plane n·X = d.
+Eigen::Vector3d on_plane(const CameraModel& cam, const Eigen::Vector2d& pixel, const Eigen::Vector3d& n, double d) {
+  const Eigen::Vector3d o = cam.centre_in_world();
+  const Eigen::Vector3d r = cam.ray_through(pixel);
+  const double t = (d - n.dot(o)) / n.dot(r);
+  return o + t * r;
+}
+
+constexpr double kCrown = 0.995;  // top of the model's head as a fraction of height (cvsm-generic.toml)
+
+// H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown
+using ShapeParams = std::array<double, 12>;
+
+void apply_params(SubjectEstimate& s, const ShapeParams& p) {
+  s.crown_y = p[11];
+  s.shape.height_mm = p[0];
+  s.shape.width_scale = p[1];
+  s.shape.depth_scale = p[2];
+  s.shape.shoulder_scale = p[3];
+  s.shape.limb_scale = p[4];
+  s.pose.translation = {p[5], p[6], p[7]};
+  s.pose.flexion = p[8];
+  s.pose.lateral = p[9];
+  s.pose.pelvis_flexion = p[10];
+}
+
+ShapeParams params_of(const SubjectEstimate& s) {
+  return {s.shape.height_mm, s.shape.width_scale, s.shape.depth_scale, s.shape.shoulder_scale, s.shape.limb_scale,
+          s.pose.translation.x(), s.pose.translation.y(), s.pose.translation.z(), s.pose.flexion, s.pose.lateral,
+          s.pose.pelvis_flexion, s.crown_y};
+}
+
+std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                          std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
+  const BodyModel m = build(s, spec, spine);
+  control_points(m, pose_vertebrae(m, spine, s.pose), points);
+  return cost.evaluate(m, points, limit).total();
+}
+
+}  // namespace
+
+BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& spine) {
+  Eigen::Vector3d l5 = s.base_l5;
+  if (s.shape.posture == SubjectPosture::Standing) l5.y() = spine.l5_height_fraction * s.shape.height_mm;
+  // The head reaches the crown: its scale is what is left between T1 and
+  // the crown, so changing the height moves the trunk and legs, not the
+  // top of the head (the two are measured separately).
+  BodyShape shape = s.shape;
+  const double H = shape.height_mm;
+  const double t1 = neutral_pose(spine, H, l5)[kNeckIndex].body_center.y() + s.pose.translation.y();
+  const double generic = (kCrown * H) - neutral_pose(spine, H)[kNeckIndex].body_center.y();
+  if (s.crown_y > 0 && generic > 0) shape.head_scale = std::clamp((s.crown_y - t1) / generic, 0.6, 1.6);
+  return build_body_model(spec, spine, shape, l5);
+}
+
+SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, const SpineSpec& spine,
+                                const CvsmOptions& options, const BitMask& frontal, const BitMask& lateral) {
+  SubjectEstimate s;
+  s.shape.height_mm = options.height_mm;
+  s.shape.posture = options.posture.value_or(SubjectPosture::Standing);
+  const int top_f = top_row(frontal), top_l = top_row(lateral);
+  // Subject's vertical axis: frontal columns give z, lateral columns x.
+  const double uf = centre_column(frontal, top_f, 0.25, 0.5);
+  const double ul = centre_column(lateral, top_l, 0.25, 0.5);
+  const Eigen::Vector3d pf = on_plane(rig.frontal, {uf, frontal.height() / 2.0}, Eigen::Vector3d::UnitX(), 0.0);
+  const Eigen::Vector3d pl = on_plane(rig.lateral, {ul, lateral.height() / 2.0}, Eigen::Vector3d::UnitZ(), pf.z());
+  // The trunk's centre line is ahead of the spine by (½ − spine fraction) of the depth.
+  const auto& l5 = spec.trunk[kWaistIndex];
+  const double spine_x = pl.x() - (0.5 - l5.spine_fraction) * l5.depth * s.shape.height_mm;
+  // Height from the head's top in each view where it is not cut off.
+  std::vector<double> tops;
+  if (top_f > 0) tops.push_back(on_plane(rig.frontal, {uf, top_f - 0.5}, Eigen::Vector3d::UnitX(), spine_x).y());
+  if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
+  const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
+  if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
+    s.shape.height_mm = std::clamp(top_y / kCrown, 1300.0, 2200.0);
+  s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, pf.z()};
+  if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
+    s.base_l5.y() = top_y - (kCrown - spine.l5_height_fraction) * s.shape.height_mm;
+  s.crown_y = tops.empty() ? kCrown * s.shape.height_mm : top_y;
+  return s;
+}
+
+int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                   const CvsmOptions& options) {
+  if (options.posture) return 0;
+  // Seated: the height is the configured one and L5 sits lower by the
+  // difference between the standing estimate and it.
+  SubjectEstimate seated = s;
+  seated.shape.posture = SubjectPosture::Seated;
+  seated.shape.height_mm = options.height_mm;
+  seated.base_l5.y() = kCrown * s.shape.height_mm - (kCrown - spine.l5_height_fraction) * options.height_mm;
+  int n = refine_subject(s, cost, spec, spine, 60);
+  n += refine_subject(seated, cost, spec, spine, 60);
+  std::vector<Eigen::Vector3d> points;
+  if (subject_cost(seated, cost, spec, spine, points, INT64_MAX) < subject_cost(s, cost, spec, spine, points, INT64_MAX))
+    s = seated;
+  return n + 2;
+}
+
+int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
+  std::vector<Eigen::Vector3d> points;
+  SubjectEstimate trial = s;
+  auto eval = [&](const ShapeParams& p, std::int64_t limit) {
+    apply_params(trial, p);
+    return subject_cost(trial, cost, spec, spine, points, limit);
+  };
+  const ShapeParams start = params_of(s);
+  const std::int64_t c0 = eval(start, INT64_MAX);
+  const ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8};
+  auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
+                                           [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
+  apply_params(s, d.params);
+  return d.evaluations + 1;
+}
+
+}  // namespace spinewatch::cvsm_detail

@@ -1,0 +1,31 @@
+#pragma once
+// The subject-specific model (the paper's future work (2)): height, trunk
+// widths and depths and the subject's place, measured from the first
+// upright silhouettes and refined by the same XOR fit.
+#include "spinewatch/estimator/cvsm/tracker.hpp"
+#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+
+namespace spinewatch::cvsm_detail {
+
+struct SubjectEstimate {
+  BodyShape shape;
+  Eigen::Vector3d base_l5{0, 0, 0};  // standing: y follows the height
+  double crown_y = 0;                // top of the head (mm, world): fixes shape.head_scale
+  CvsmPose pose;
+};
+
+// Direct measurements: height from the top of the head in both views, the
+// trunk's centre line from the middle rows, the spine behind it by the
+// generic fraction of the trunk depth.
+SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, const SpineSpec& spine,
+                                const CvsmOptions& options, const BitMask& frontal, const BitMask& lateral);
+// Standing or seated: as configured, or whichever fits the silhouettes
+// better. Returns the cost evaluations spent.
+int choose_posture(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                   const CvsmOptions& options);
+// One round of the shape fit on the current silhouettes; returns evaluations.
+int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                   int budget = 160);
+BodyModel build(const SubjectEstimate& subject, const CvsmSpec& spec, const SpineSpec& spine);
+
+}  // namespace spinewatch::cvsm_detail

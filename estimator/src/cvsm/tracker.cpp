@@ -1,0 +1,233 @@
+#include "spinewatch/estimator/cvsm/tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "coordinate_search.hpp"
+#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "subject_estimate.hpp"
+
+namespace spinewatch {
+
+using cvsm_detail::coordinate_descent;
+
+namespace {
+
+using PoseParams = std::array<double, 8>;  // flexion, lateral, twist, pelvis flexion, pelvis lateral, tx, ty, tz
+
+PoseParams to_params(const CvsmPose& p) {
+  return {p.flexion, p.lateral, p.twist, p.pelvis_flexion, p.pelvis_lateral,
+          p.translation.x(), p.translation.y(), p.translation.z()};
+}
+CvsmPose to_pose(const PoseParams& a) {
+  CvsmPose p;
+  p.flexion = a[0];
+  p.lateral = a[1];
+  p.twist = a[2];
+  p.pelvis_flexion = a[3];
+  p.pelvis_lateral = a[4];
+  p.translation = {a[5], a[6], a[7]};
+  return p;
+}
+
+}  // namespace
+
+struct CvsmTracker::Impl {
+  CameraRig rig;
+  CvsmOptions opt;
+  CvsmSpec spec;
+  const SpineSpec& spine = generic_spine_spec();
+  std::unique_ptr<XorCost> cost;
+  std::vector<Eigen::Vector3d> points;
+
+  std::optional<cvsm_detail::SubjectEstimate> subject;  // during init and after
+  BodyModel model;
+  bool have_model = false;
+  int init_frames = 0;
+  bool lost = true;     // the next tracked frame needs a global search
+  CvsmPose pose, previous;
+  bool have_previous = false;
+
+  Impl(const CameraRig& r, CvsmOptions o)
+      : rig(r), opt(std::move(o)), spec(opt.model ? *opt.model : generic_cvsm_spec()) {}
+
+  XorCounts evaluate(const BodyModel& m, const CvsmPose& p, std::int64_t limit) {
+    const SpinePose v = pose_vertebrae(m, spine, p);
+    control_points(m, v, points);
+    return cost->evaluate(m, points, limit);
+  }
+
+  std::int64_t cost_of(const PoseParams& a, std::int64_t limit) {
+    return evaluate(model, to_pose(a), limit).total();
+  }
+
+  // Local coarse-to-fine search around `start` (and a constant-velocity
+  // prediction from it).
+  int local_search(int budget) {
+    PoseParams best = to_params(pose);
+    std::int64_t best_cost = cost_of(best, INT64_MAX);
+    int evaluations = 1;
+    if (have_previous) {
+      PoseParams predicted = best, prev = to_params(previous);
+      for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += 0.8 * (best[i] - prev[i]);
+      const std::int64_t c = cost_of(predicted, best_cost);
+      ++evaluations;
+      if (c < best_cost) {
+        best_cost = c;
+        best = predicted;
+      }
+    }
+    const PoseParams step{4, 3, 4, 3, 2, 10, 6, 10};
+    auto d = coordinate_descent(best, best_cost, step, 3, budget - evaluations,
+                                [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
+    pose = to_pose(d.params);
+    return evaluations + d.evaluations;
+  }
+
+  // Whole-range search over trunk flexion and lateral bending (flexion
+  // shared two thirds spine, one third pelvis), then a wide local search.
+  int global_search(int budget) {
+    PoseParams best = to_params(pose);
+    best[0] = best[1] = best[2] = best[3] = best[4] = 0;
+    std::int64_t best_cost = cost_of(best, INT64_MAX);
+    int evaluations = 1;
+    const PoseParams base = best;
+    for (double f = -20; f <= 80; f += 10)
+      for (double l = -30; l <= 30; l += 10) {
+        PoseParams a = base;
+        a[0] = f * 2 / 3;
+        a[3] = f / 3;
+        a[1] = l;
+        const std::int64_t c = cost_of(a, best_cost);
+        ++evaluations;
+        if (c < best_cost) {
+          best_cost = c;
+          best = a;
+        }
+      }
+    const PoseParams step{8, 6, 8, 6, 4, 40, 20, 40};
+    auto d = coordinate_descent(best, best_cost, step, 6, budget - evaluations,
+                                [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
+    pose = to_pose(d.params);
+    return evaluations + d.evaluations;
+  }
+
+  CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
+    CvsmResult r;
+    const XorCounts c = evaluate(model, pose, INT64_MAX);
+    r.pose = pose;
+    r.vertebrae = pose_vertebrae(model, spine, pose);
+    r.fit.cost = c.cost();
+    r.fit.xor_frontal_px = c.xor_px[0];
+    r.fit.xor_lateral_px = c.xor_px[1];
+    r.fit.silhouette_frontal_px = c.silhouette_px[0];
+    r.fit.silhouette_lateral_px = c.silhouette_px[1];
+    r.fit.candidates = candidates + 1;
+    if (!flag.empty()) r.fit.flag = std::string(flag);
+    if (state == TrackingState::Tracking && r.fit.cost > opt.lost_cost) state = TrackingState::Lost;
+    r.state = state;
+    lost = state == TrackingState::Lost;
+    r.neck = r.vertebrae[kNeckIndex].body_center;
+    r.waist = r.vertebrae[kWaistIndex].body_center;
+    r.neck_dir = r.vertebrae[kNeckIndex].q * Eigen::Vector3d::UnitY();
+    r.waist_dir = r.vertebrae[kWaistIndex].q * Eigen::Vector3d::UnitY();
+    return r;
+  }
+
+  CvsmResult no_person(std::string_view flag) {
+    CvsmResult r;
+    r.state = TrackingState::Lost;
+    r.fit.cost = 1.0;
+    r.fit.candidates = 0;
+    r.fit.flag = std::string(flag);
+    lost = true;
+    have_previous = false;
+    return r;
+  }
+
+  CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag) {
+    if (frontal.empty() || lateral.empty() || frontal.width() != lateral.width() || frontal.height() != lateral.height())
+      return no_person("no_person");
+    if (frontal.count() < opt.min_silhouette_px || lateral.count() < opt.min_silhouette_px) return no_person("no_person");
+    if (!cost || cost_width != frontal.width() || cost_height != frontal.height()) {
+      cost = std::make_unique<XorCost>(rig, frontal.width(), frontal.height());
+      cost_width = frontal.width();
+      cost_height = frontal.height();
+    }
+    cost->set_silhouettes(frontal, lateral);
+
+    if (!have_model || init_frames < opt.subject_frames) {
+      // Building the subject model: only from clean frames.
+      if (!flag.empty()) return no_person(flag);
+      int candidates = 0;
+      if (!subject) {
+        subject = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+        candidates += cvsm_detail::choose_posture(*subject, *cost, spec, spine, opt);
+      }
+      candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
+      model = cvsm_detail::build(*subject, spec, spine);
+      have_model = true;
+      pose = subject->pose;
+      have_previous = false;
+      ++init_frames;
+      const bool done = init_frames >= opt.subject_frames;
+      lost = false;
+      CvsmResult r = finish(TrackingState::Init, candidates, flag);
+      if (done) r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
+      lost = r.state == TrackingState::Lost;
+      return r;
+    }
+
+    const CvsmPose before = pose;
+    int candidates = 0;
+    if (lost) {
+      candidates = global_search(opt.global_budget);
+      have_previous = false;
+    } else {
+      candidates = local_search(opt.local_budget);
+    }
+    CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
+    if (r.state == TrackingState::Lost) {
+      // Keep the last good pose as the start of the next search.
+      if (!have_previous) pose = before;
+      have_previous = false;
+    } else {
+      previous = before;
+      have_previous = flag.empty();
+    }
+    return r;
+  }
+
+  int cost_width = 0, cost_height = 0;
+};
+
+CvsmTracker::CvsmTracker(const CameraRig& rig, CvsmOptions options) : impl_(std::make_unique<Impl>(rig, std::move(options))) {}
+CvsmTracker::~CvsmTracker() = default;
+CvsmTracker::CvsmTracker(CvsmTracker&&) noexcept = default;
+CvsmTracker& CvsmTracker::operator=(CvsmTracker&&) noexcept = default;
+
+CvsmResult CvsmTracker::track(const BitMask& frontal, const BitMask& lateral) {
+  return impl_->track(frontal, lateral, {});
+}
+
+CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteResult& lateral) {
+  for (const SilhouetteResult* s : {&frontal, &lateral})
+    if (s->status == SilhouetteStatus::LearningBackground || s->status == SilhouetteStatus::NoPerson) {
+      CvsmResult r = impl_->no_person(to_string(s->status));
+      if (s->status == SilhouetteStatus::LearningBackground) r.state = TrackingState::Init;
+      return r;
+    }
+  std::string_view flag = flag_of(frontal.status);
+  if (flag.empty()) flag = flag_of(lateral.status);
+  return impl_->track(frontal.mask, lateral.mask, flag);
+}
+
+const BodyModel* CvsmTracker::subject_model() const { return impl_->have_model ? &impl_->model : nullptr; }
+
+void CvsmTracker::reset() {
+  CameraRig rig = impl_->rig;
+  CvsmOptions opt = impl_->opt;
+  impl_ = std::make_unique<Impl>(rig, std::move(opt));
+}
+
+}  // namespace spinewatch

@@ -1,0 +1,6 @@
+embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/segments.cpp
+  ${SPINEWATCH_SOURCE_DIR}/config/segments.toml segments_toml)
+list(APPEND ESTIMATOR_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/schultz.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ergonomics.cpp
+  ${CMAKE_CURRENT_BINARY_DIR}/embedded/segments.cpp)

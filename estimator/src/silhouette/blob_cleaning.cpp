@@ -1,0 +1,145 @@
+// Cleaning on packed rows: morphology with shifts, connected components on
+// runs (a person's row has a handful of runs, so labelling runs instead of
+// pixels costs next to nothing).
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
+
+namespace spinewatch {
+namespace {
+
+// Horizontal 3-pixel dilation (op = or) or erosion (op = and) of one row.
+template <bool Dilate>
+void horizontal(const std::uint64_t* src, std::uint64_t* dst, int words) {
+  for (int w = 0; w < words; ++w) {
+    const std::uint64_t prev = w > 0 ? src[w - 1] : (Dilate ? 0 : ~std::uint64_t{0});
+    const std::uint64_t next = w + 1 < words ? src[w + 1] : (Dilate ? 0 : ~std::uint64_t{0});
+    const std::uint64_t left = (src[w] << 1) | (prev >> 63);   // pixel x−1 at bit x
+    const std::uint64_t right = (src[w] >> 1) | (next << 63);  // pixel x+1 at bit x
+    dst[w] = Dilate ? (src[w] | left | right) : (src[w] & left & right);
+  }
+}
+
+// Cross-shaped dilation or erosion; outside the image counts as background
+// for dilation and as foreground for erosion (so erosion does not eat
+// blobs that touch the border).
+template <bool Dilate>
+BitMask cross(const BitMask& in) {
+  BitMask out(in.width(), in.height());
+  const int words = in.words_per_row();
+  std::vector<std::uint64_t> h(static_cast<std::size_t>(words));
+  for (int y = 0; y < in.height(); ++y) {
+    horizontal<Dilate>(in.row(y), h.data(), words);
+    std::uint64_t* dst = out.row(y);
+    for (int w = 0; w < words; ++w) {
+      const std::uint64_t up = y > 0 ? in.row(y - 1)[w] : (Dilate ? 0 : ~std::uint64_t{0});
+      const std::uint64_t down = y + 1 < in.height() ? in.row(y + 1)[w] : (Dilate ? 0 : ~std::uint64_t{0});
+      dst[w] = Dilate ? (h[static_cast<std::size_t>(w)] | up | down) : (h[static_cast<std::size_t>(w)] & up & down);
+    }
+  }
+  // Keep the padding bits of the last word clear.
+  if (const int tail = in.width() & 63; tail != 0) {
+    const std::uint64_t keep = (std::uint64_t{1} << tail) - 1;
+    for (int y = 0; y < out.height(); ++y) out.row(y)[words - 1] &= keep;
+  }
+  return out;
+}
+
+struct Run {
+  int y, x0, x1;
+  int parent;
+};
+
+int find(std::vector<Run>& runs, int i) {
+  while (runs[static_cast<std::size_t>(i)].parent != i) {
+    auto& r = runs[static_cast<std::size_t>(i)];
+    r.parent = runs[static_cast<std::size_t>(r.parent)].parent;
+    i = r.parent;
+  }
+  return i;
+}
+
+// Appends the runs of set bits of row y.
+void row_runs(const BitMask& mask, int y, std::vector<Run>& runs) {
+  const std::uint64_t* row = mask.row(y);
+  const int words = mask.words_per_row();
+  int x = 0;
+  const int width = mask.width();
+  while (x < width) {
+    // Next set bit at or after x.
+    int w = x >> 6;
+    std::uint64_t bits = row[w] & (~std::uint64_t{0} << (x & 63));
+    while (bits == 0 && ++w < words) bits = row[w];
+    if (w >= words) return;
+    const int start = w * 64 + std::countr_zero(bits);
+    // Next clear bit after start.
+    w = start >> 6;
+    std::uint64_t clear = ~row[w] & (~std::uint64_t{0} << (start & 63));
+    while (clear == 0 && ++w < words) clear = ~row[w];
+    const int end = w >= words ? width : std::min(width, w * 64 + std::countr_zero(clear));
+    const int id = static_cast<int>(runs.size());
+    runs.push_back({y, start, end - 1, id});
+    x = end;
+  }
+}
+
+}  // namespace
+
+void close_cross(BitMask& mask) { mask = cross<false>(cross<true>(mask)); }
+
+BlobSummary keep_largest_blob(BitMask& mask, int min_px) {
+  std::vector<Run> runs;
+  runs.reserve(1024);
+  std::size_t prev_begin = 0, prev_end = 0;
+  for (int y = 0; y < mask.height(); ++y) {
+    const std::size_t begin = runs.size();
+    row_runs(mask, y, runs);
+    const std::size_t end = runs.size();
+    // Both run lists are sorted by x: merge-walk them, joining 8-connected runs.
+    std::size_t p = prev_begin;
+    for (std::size_t i = begin; i < end; ++i) {
+      while (p < prev_end && runs[p].x1 + 1 < runs[i].x0) ++p;
+      for (std::size_t q = p; q < prev_end && runs[q].x0 <= runs[i].x1 + 1; ++q) {
+        const int a = find(runs, static_cast<int>(i)), b = find(runs, static_cast<int>(q));
+        if (a != b) runs[static_cast<std::size_t>(std::max(a, b))].parent = std::min(a, b);
+      }
+    }
+    prev_begin = begin;
+    prev_end = end;
+  }
+  std::vector<std::int64_t> area(runs.size(), 0);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    area[static_cast<std::size_t>(find(runs, static_cast<int>(i)))] += runs[i].x1 - runs[i].x0 + 1;
+
+  BlobSummary s;
+  int best = -1;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (runs[i].parent != static_cast<int>(i)) continue;
+    if (area[i] >= min_px) ++s.blobs;
+    if (area[i] > s.largest_px) {
+      s.second_px = s.largest_px;
+      s.largest_px = area[i];
+      best = static_cast<int>(i);
+    } else if (area[i] > s.second_px) {
+      s.second_px = area[i];
+    }
+  }
+  mask.clear();
+  if (best < 0) return s;
+  s.x_min = mask.width();
+  s.y_min = mask.height();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (find(runs, static_cast<int>(i)) != best) continue;
+    const Run& r = runs[i];
+    set_bits(mask.row(r.y), r.x0, r.x1);
+    s.x_min = std::min(s.x_min, r.x0);
+    s.x_max = std::max(s.x_max, r.x1);
+    s.y_min = std::min(s.y_min, r.y);
+    s.y_max = std::max(s.y_max, r.y);
+  }
+  return s;
+}
+
+}  // namespace spinewatch

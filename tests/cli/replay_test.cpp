@@ -1,0 +1,136 @@
+// spinewatch replay / eval on phantom recordings: the stream contract
+// (interfaces.md §3–§4), pairing of unequal streams, and bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
+  std::vector<nlohmann::json> lines;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+class Replay : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir();
+    auto r = test::run_cli("phantom --scenario flexion --frames 40 --seed 3 --out " + (dir_->path() / "rec").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static std::filesystem::path rec() { return dir_->path() / "rec"; }
+  static test::TempDir* dir_;
+};
+test::TempDir* Replay::dir_ = nullptr;
+
+TEST_F(Replay, OneSchemaValidLinePerPairInOrder) {
+  test::TempDir out;
+  auto r = test::run_cli("replay --recording " + rec().string() + " --out " + (out / "p.ndjson").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(test::validate_ndjson(out / "p.ndjson"), "");
+  const auto lines = read_lines(out / "p.ndjson");
+  const auto truth = read_lines(rec() / "ground_truth.ndjson");
+  ASSERT_EQ(lines.size(), truth.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(lines[i]["seq"], truth[i]["seq"]);
+    EXPECT_EQ(lines[i]["t_ns"], truth[i]["t_ns"]);  // recording time in replay
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "p.ndjson.part"));
+}
+
+TEST_F(Replay, StandardOutputAndNoProgressWhenNotATerminal) {
+  // run_cli captures standard error too: no progress bar (no '\r') may appear.
+  auto r = test::run_cli("replay --recording " + rec().string() + " --out -");
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.output.find('\r'), std::string::npos);
+  EXPECT_EQ(r.output.find("replay ["), std::string::npos);
+  std::istringstream lines(r.output);
+  int postures = 0;
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("{\"class\":\"posture\"", 0) == 0) ++postures;
+  EXPECT_EQ(postures, 50);  // 10 empty + 40 frames
+}
+
+TEST_F(Replay, UnequalStreamsArePairedBySeqAndTheRestCounted) {
+  // Drop lateral frame 20 and the last frontal frame: what remains pairs by
+  // timestamp, and each unpaired frame is reported, never mispaired.
+  test::TempDir copy;
+  std::filesystem::copy(rec(), copy / "rec");
+  auto json = nlohmann::json::parse(test::read_file(copy / "rec/recording.json"));
+  const std::size_t frame_bytes = 320 * 240 * 2;
+  auto cut = [&](const std::string& view, std::size_t index) {
+    std::string raw = test::read_file(copy / "rec" / (view + ".raw"));
+    raw.erase(index * frame_bytes, frame_bytes);
+    test::write_file(copy / "rec" / (view + ".raw"), raw);
+    json["frames"][view].erase(index);
+  };
+  cut("lateral", 20);
+  cut("frontal", 49);
+  test::write_file(copy / "rec/recording.json", json.dump());
+  auto r = test::run_cli("replay --recording " + (copy / "rec").string() + " --out " + (copy / "p.ndjson").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto lines = read_lines(copy / "p.ndjson");
+  ASSERT_EQ(lines.size(), 48u);
+  for (const auto& l : lines) {
+    EXPECT_NE(l["seq"], 20);
+    EXPECT_NE(l["seq"], 49);
+  }
+  EXPECT_NE(r.output.find("2 frames had no partner"), std::string::npos) << r.output;
+}
+
+TEST(ReplayErrors, BadRecordingExitsOneNamingTheFile) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "rec");
+  test::write_file(dir / "rec/recording.json", R"({"pixel_format": "MJPG", "width": 320, "height": 240, "fps": 30})");
+  test::write_file(dir / "rec/frontal.raw", std::string(320 * 240 * 2, '\0'));
+  test::write_file(dir / "rec/lateral.raw", std::string(320 * 240 * 2, '\0'));
+  auto r = test::run_cli("replay --recording " + (dir / "rec").string() + " --out " + (dir / "p.ndjson").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("recording.json"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("MJPG"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.ndjson"));
+}
+
+TEST(ReplayErrors, MissingOptionExitsTwo) {
+  EXPECT_EQ(test::run_cli("replay --recording /tmp").exit_code, 2);
+  EXPECT_EQ(test::run_cli("eval").exit_code, 2);
+}
+
+TEST(EvalErrors, BadGroundTruthLineNamesFileAndLine) {
+  test::TempDir dir;
+  test::write_file(dir / "gt.ndjson", "{\"seq\": 0, \"t_ns\": 0, \"state\": \"lost\"}\n{\"seq\": 1}\n");
+  test::write_file(dir / "est.ndjson", "");
+  auto r = test::run_cli("eval --recording " + dir.path().string() + " --truth " + (dir / "gt.ndjson").string() +
+                         " --estimate " + (dir / "est.ndjson").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("gt.ndjson:2: t_ns"), std::string::npos) << r.output;
+}
+
+TEST(Eval, TruthAgainstItselfIsExact) {
+  test::TempDir dir;
+  auto r = test::run_cli("phantom --scenario lateral_left --frames 30 --out " + (dir / "rec").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto e = test::run_cli("eval --json --recording " + (dir / "rec").string() + " --estimate " +
+                         (dir / "rec/ground_truth.ndjson").string() + " 2>/dev/null");
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const auto j = nlohmann::json::parse(e.output);
+  EXPECT_EQ(j["truth_frames"], 30);
+  EXPECT_EQ(j["lost_frames"], 0);
+  EXPECT_NEAR(j["neck"]["max"].get<double>(), 0.0, 0.01);
+  EXPECT_NEAR(j["vertebrae"]["max"].get<double>(), 0.0, 0.01);
+}
+
+}  // namespace
+}  // namespace spinewatch

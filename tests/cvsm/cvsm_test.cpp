@@ -1,0 +1,262 @@
+// The CVSM: generic model file, fixed-point projection, the fast XOR cost
+// against the OpenCV float reference, and the tracker on silhouettes
+// rendered from a model of a different subject (self-consistency).
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "cvsm_reference.hpp"
+#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
+#include "spinewatch/estimator/cvsm/tracker.hpp"
+#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+
+namespace spinewatch {
+namespace {
+
+constexpr int kW = 320, kH = 240;
+
+// A subject unlike the generic model: shorter, slimmer, off the axis.
+BodyModel other_subject(SubjectPosture posture = SubjectPosture::Standing) {
+  BodyShape shape;
+  shape.height_mm = 1620;
+  shape.width_scale = 0.9;
+  shape.depth_scale = 0.93;
+  shape.shoulder_scale = 0.95;
+  shape.limb_scale = 0.9;
+  shape.posture = posture;
+  const double l5_y = posture == SubjectPosture::Standing ? generic_spine_spec().l5_height_fraction * 1620 : 560;
+  return build_body_model(generic_cvsm_spec(), generic_spine_spec(), shape, {20, l5_y, -15});
+}
+
+struct Views {
+  BitMask frontal, lateral;
+};
+
+Views render(const CameraRig& rig, const BodyModel& model, const CvsmPose& pose) {
+  std::vector<Eigen::Vector3d> pts;
+  control_points(model, pose_vertebrae(model, generic_spine_spec(), pose), pts);
+  cv::Mat f(kH, kW, CV_8U), l(kH, kW, CV_8U);
+  test::render_reference(rig.frontal, model, pts, f);
+  test::render_reference(rig.lateral, model, pts, l);
+  return {test::to_mask(f), test::to_mask(l)};
+}
+
+CvsmPose bend(double flexion, double lateral, double twist) {
+  CvsmPose p;
+  p.flexion = flexion * 2 / 3;
+  p.pelvis_flexion = flexion / 3;
+  p.lateral = lateral;
+  p.twist = twist;
+  return p;
+}
+
+TEST(CvsmSpec, GenericModelParses) {
+  const CvsmSpec& spec = generic_cvsm_spec();
+  EXPECT_GT(spec.trunk[5].depth, spec.trunk[0].depth);
+  EXPECT_GE(spec.parts.size(), 10u);
+  const BodyModel m = build_body_model(spec, generic_spine_spec(), BodyShape{}, {0, 1006, 0});
+  EXPECT_EQ(m.local_points.size(), m.planes.size() * kControlPoints);
+  EXPECT_EQ(m.chains.size(), 5u);  // trunk with pelvis and head, two arms, two legs
+}
+
+TEST(CvsmSpec, BadFileNamesLineAndField) {
+  std::string text(generic_cvsm_toml());
+  const auto pos = text.find("half_width = 0.080");
+  ASSERT_NE(pos, std::string::npos);
+  text.replace(pos, 18, "half_width = 0.900");
+  const auto r = parse_cvsm_spec(text, "bad.toml");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("bad.toml:"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("trunk[0].half_width"), std::string::npos) << r.error().message;
+  EXPECT_FALSE(parse_cvsm_spec("[model", "x.toml").ok());
+}
+
+TEST(FixedCamera, ProjectsWithinTheStatedBound) {
+  const CameraRig rig = CameraRig::default_rig();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> xz(-600, 600), y(0, 2000);
+  for (const CameraModel* cam : {&rig.frontal, &rig.lateral}) {
+    const FixedCamera fixed(*cam);
+    ASSERT_TRUE(fixed.integer_path());
+    double worst = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector3d p(xz(rng), y(rng), xz(rng));
+      PixelQ8 q;
+      ASSERT_TRUE(fixed.project(p, q));
+      const Eigen::Vector2d ref = *cam->project(p);
+      worst = std::max({worst, std::abs(q.u / 256.0 - ref.x()), std::abs(q.v / 256.0 - ref.y())});
+    }
+    EXPECT_LT(worst, 0.025);
+  }
+  PixelQ8 q;
+  EXPECT_FALSE(FixedCamera(rig.frontal).project({2500, 1000, 0}, q));  // behind the camera
+}
+
+TEST(XorCost, AgreesWithOpenCvReferenceOnRandomCandidates) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel model = other_subject();
+  const Views truth = render(rig, model, bend(30, 8, 5));
+  const cv::Mat sf = test::to_mat(truth.frontal), sl = test::to_mat(truth.lateral);
+  XorCost cost(rig, kW, kH);
+  cost.set_silhouettes(truth.frontal, truth.lateral);
+  const auto silhouette = static_cast<double>(truth.frontal.count() + truth.lateral.count());
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> angle(-30, 60), lat(-25, 25), shift(-60, 60);
+  std::vector<Eigen::Vector3d> pts;
+  cv::Mat scratch, diff;
+  double worst = 0;
+  for (int i = 0; i < 60; ++i) {
+    CvsmPose p = bend(angle(rng), lat(rng), lat(rng) * 0.8);
+    p.translation = {shift(rng), shift(rng) * 0.3, shift(rng)};
+    control_points(model, pose_vertebrae(model, generic_spine_spec(), p), pts);
+    const XorCounts fast = cost.evaluate(model, pts);
+    ASSERT_FALSE(fast.pruned);
+    const std::int64_t ref = test::reference_xor(rig.frontal, model, pts, sf, scratch, diff) +
+                             test::reference_xor(rig.lateral, model, pts, sl, scratch, diff);
+    // Pixels compared: the silhouettes' and the model's, both views.
+    const double compared = silhouette + static_cast<double>(cost.render(model, pts, kFrontal).count() +
+                                                             cost.render(model, pts, kLateral).count());
+    worst = std::max(worst, std::abs(static_cast<double>(fast.total() - ref)) / compared);
+  }
+  EXPECT_LT(worst, 0.005) << "fast and reference XOR differ by more than 0.5 % of the pixels compared";
+  std::printf("worst fast/reference XOR difference: %.3f %% of the pixels compared\n", 100 * worst);
+}
+
+TEST(XorCost, PrunedCountIsALowerBoundAboveTheLimit) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel model = other_subject();
+  const Views truth = render(rig, model, CvsmPose{});
+  XorCost cost(rig, kW, kH);
+  cost.set_silhouettes(truth.frontal, truth.lateral);
+  std::vector<Eigen::Vector3d> pts;
+  control_points(model, pose_vertebrae(model, generic_spine_spec(), bend(45, 0, 0)), pts);
+  const XorCounts exact = cost.evaluate(model, pts);
+  ASSERT_GT(exact.total(), 200);
+  const XorCounts pruned = cost.evaluate(model, pts, exact.total() / 4);
+  EXPECT_TRUE(pruned.pruned);
+  EXPECT_GT(pruned.total(), exact.total() / 4);
+  EXPECT_LE(pruned.total(), exact.total());
+  // The model rendered from the true pose is (almost) its own silhouette.
+  control_points(model, pose_vertebrae(model, generic_spine_spec(), CvsmPose{}), pts);
+  EXPECT_LT(cost.evaluate(model, pts).cost(), 0.02);  // boundary pixels only
+}
+
+struct Errors {
+  double neck_mean = 0, waist_mean = 0, neck_max = 0, waist_max = 0;
+  int lost = 0, frames = 0;
+};
+
+Errors track_sequence(CvsmTracker& tracker, const CameraRig& rig, const BodyModel& subject,
+                      const std::vector<CvsmPose>& poses) {
+  Errors e;
+  for (const CvsmPose& p : poses) {
+    const Views v = render(rig, subject, p);
+    const CvsmResult r = tracker.track(v.frontal, v.lateral);
+    if (r.state == TrackingState::Init) continue;
+    ++e.frames;
+    if (r.state == TrackingState::Lost) {
+      ++e.lost;
+      continue;
+    }
+    const SpinePose truth = pose_vertebrae(subject, generic_spine_spec(), p);
+    const double dn = (r.neck - truth[kNeckIndex].body_center).norm();
+    const double dw = (r.waist - truth[kWaistIndex].body_center).norm();
+    e.neck_mean += dn;
+    e.waist_mean += dw;
+    e.neck_max = std::max(e.neck_max, dn);
+    e.waist_max = std::max(e.waist_max, dw);
+  }
+  const int ok = std::max(1, e.frames - e.lost);
+  e.neck_mean /= ok;
+  e.waist_mean /= ok;
+  return e;
+}
+
+TEST(CvsmTracker, TracksAnotherSubjectsModelThroughABend) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel subject = other_subject();
+  std::vector<CvsmPose> poses(10, CvsmPose{});
+  for (int i = 0; i <= 40; ++i) {
+    const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);  // 0 → 1 → 0
+    poses.push_back(bend(50 * s, 12 * s, 6 * s));
+  }
+  CvsmTracker tracker(rig, CvsmOptions{});
+  const Errors e = track_sequence(tracker, rig, subject, poses);
+  ASSERT_NE(tracker.subject_model(), nullptr);
+  EXPECT_NEAR(tracker.subject_model()->shape.height_mm, 1620, 30);
+  EXPECT_EQ(e.lost, 0);
+  EXPECT_LT(e.neck_mean, 10.0);
+  EXPECT_LT(e.waist_mean, 10.0);
+  EXPECT_LT(e.neck_max, 25.0);
+  EXPECT_LT(e.waist_max, 25.0);
+  std::printf("self-consistency: neck mean %.1f max %.1f, waist mean %.1f max %.1f mm\n", e.neck_mean, e.neck_max,
+              e.waist_mean, e.waist_max);
+}
+
+TEST(CvsmTracker, NoPersonIsLostAndItRecoversAfterAJump) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel subject = other_subject();
+  CvsmTracker tracker(rig, CvsmOptions{});
+  const Views upright = render(rig, subject, CvsmPose{});
+  for (int i = 0; i < 10; ++i) tracker.track(upright.frontal, upright.lateral);
+  EXPECT_EQ(tracker.track(upright.frontal, upright.lateral).state, TrackingState::Tracking);
+
+  const BitMask empty(kW, kH);
+  const CvsmResult none = tracker.track(empty, empty);
+  EXPECT_EQ(none.state, TrackingState::Lost);
+  EXPECT_EQ(none.fit.flag.value_or(""), "no_person");
+  EXPECT_FALSE(none.valid());
+
+  // The person reappears far into a bend: tracking must be back within 5 frames.
+  const CvsmPose far = bend(45, -15, 0);
+  const Views bent = render(rig, subject, far);
+  const SpinePose truth = pose_vertebrae(subject, generic_spine_spec(), far);
+  int frames = 0;
+  CvsmResult r;
+  do {
+    r = tracker.track(bent.frontal, bent.lateral);
+    ++frames;
+  } while (r.state != TrackingState::Tracking && frames < 5);
+  EXPECT_EQ(r.state, TrackingState::Tracking);
+  EXPECT_LT((r.waist - truth[kWaistIndex].body_center).norm(), 20.0);
+  EXPECT_LT((r.neck - truth[kNeckIndex].body_center).norm(), 25.0);
+}
+
+TEST(CvsmTracker, FlaggedAndHalfOccludedSilhouettesNeverJumpWildly) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel subject = other_subject();
+  CvsmTracker tracker(rig, CvsmOptions{});
+  const Views upright = render(rig, subject, CvsmPose{});
+  CvsmResult good;
+  for (int i = 0; i < 12; ++i) good = tracker.track(upright.frontal, upright.lateral);
+  ASSERT_EQ(good.state, TrackingState::Tracking);
+
+  // Half the person hidden in the frontal view (left half cut away).
+  BitMask half = upright.frontal;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < 160; ++x) half.set(x, y, false);
+  SilhouetteResult f, l;
+  f.status = SilhouetteStatus::Occluded;
+  f.mask = half;
+  f.pixels = half.count();
+  l.status = SilhouetteStatus::Person;
+  l.mask = upright.lateral;
+  l.pixels = l.mask.count();
+  const CvsmResult r = tracker.track(f, l);
+  EXPECT_EQ(r.fit.flag.value_or(""), "occluded");
+  if (r.state != TrackingState::Lost) {
+    EXPECT_LT((r.waist - good.waist).norm(), 60.0);
+    EXPECT_LT((r.neck - good.neck).norm(), 60.0);
+  }
+  f.status = SilhouetteStatus::NoPerson;
+  EXPECT_EQ(tracker.track(f, l).state, TrackingState::Lost);
+  f.status = SilhouetteStatus::TwoBlobs;
+  f.mask = upright.frontal;
+  EXPECT_EQ(tracker.track(f, l).fit.flag.value_or(""), "two_blobs");
+  // Mismatched sizes are no person, not a crash.
+  EXPECT_EQ(tracker.track(BitMask(16, 16), upright.lateral).state, TrackingState::Lost);
+}
+
+}  // namespace
+}  // namespace spinewatch

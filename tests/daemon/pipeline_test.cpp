@@ -1,0 +1,167 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "fake_pair_source.hpp"
+#include "spinewatch/daemon/pipeline.hpp"
+#include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/stream_lines.hpp"
+#include "test_client.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+using namespace std::chrono_literals;
+using test::FakePairSource;
+
+struct Collected {
+  std::mutex mutex;
+  std::vector<Posture> postures;
+  void add(const Posture& p) {
+    std::lock_guard lock(mutex);
+    postures.push_back(p);
+  }
+  std::size_t size() {
+    std::lock_guard lock(mutex);
+    return postures.size();
+  }
+};
+
+TEST(Pipeline, SeqCountsPairsSinceStartAcrossALoopingSource) {
+  Collected out;
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 300, .lap = 90}),
+                    test::lost_posture, [&](const Posture& p) { out.add(p); }, {.pair_queue = 4, .lossless = true});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return out.size() == 300; }));
+  pipeline.stop();
+  for (std::size_t i = 0; i < out.postures.size(); ++i) {
+    EXPECT_EQ(out.postures[i].seq, i) << "seq must not restart with the source's own numbering";
+    EXPECT_EQ(out.postures[i].t_ns, static_cast<std::int64_t>(1'000'000'000 + i * 33'333'333));
+  }
+  EXPECT_EQ(pipeline.stats().pairs, 300u);
+  EXPECT_EQ(pipeline.stats().pairs_dropped, 0u);
+  EXPECT_EQ(pipeline.stats().source.frames, 600u);
+}
+
+TEST(Pipeline, SlowEstimatorDropsTheOldestPairsAndCountsThem) {
+  Collected out;
+  auto slow = [](const FramePair& pair) {
+    std::this_thread::sleep_for(2ms);
+    return test::lost_posture(pair);
+  };
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 200}), slow,
+                    [&](const Posture& p) { out.add(p); }, {.pair_queue = 4});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return pipeline.stats().pairs == 200 && pipeline.stats().pairs_processed +
+                                                                                 pipeline.stats().pairs_dropped == 200; }));
+  pipeline.stop();
+  const auto s = pipeline.stats();
+  EXPECT_GT(s.pairs_dropped, 0u);
+  EXPECT_EQ(s.pairs_processed + s.pairs_dropped, 200u);
+  ASSERT_EQ(out.postures.size(), s.pairs_processed);
+  for (std::size_t i = 1; i < out.postures.size(); ++i) EXPECT_GT(out.postures[i].seq, out.postures[i - 1].seq);
+  EXPECT_EQ(out.postures.back().seq, 199u) << "the newest pair is never the one dropped";
+}
+
+TEST(Pipeline, StopReturnsPromptlyWhileTheSourceWaits) {
+  Collected out;
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 5}), test::lost_posture,
+                    [&](const Posture& p) { out.add(p); }, {.lossless = true});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return out.size() == 5; }));
+  std::this_thread::sleep_for(20ms);
+  EXPECT_FALSE(pipeline.source_finished()) << "the fake source waits for stop() after its pairs";
+  const auto t0 = std::chrono::steady_clock::now();
+  pipeline.stop();
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 500ms);
+  EXPECT_TRUE(pipeline.source_finished());
+  EXPECT_EQ(out.size(), 5u);
+}
+
+TEST(Pipeline, AnEstimatorExceptionBecomesALostPosture) {
+  Collected out;
+  auto faulty = [](const FramePair& pair) -> Posture {
+    if (pair.sequence == 2) throw std::runtime_error("singular matrix");
+    Posture p = test::lost_posture(pair);
+    p.state = TrackingState::Init;
+    return p;
+  };
+  spdlog::set_level(spdlog::level::off);
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 4}), faulty,
+                    [&](const Posture& p) { out.add(p); }, {.lossless = true});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return out.size() == 4; }));
+  pipeline.stop();
+  spdlog::set_level(spdlog::level::info);
+  EXPECT_EQ(out.postures[2].state, TrackingState::Lost);
+  EXPECT_EQ(out.postures[2].seq, 2u);
+  EXPECT_EQ(out.postures[2].fit.flag, "estimator_error");
+  EXPECT_EQ(out.postures[3].state, TrackingState::Init);
+}
+
+TEST(BoundedQueue, DropsOldestWhenFull) {
+  BoundedQueue<int> q(2);
+  EXPECT_FALSE(q.push(1));
+  EXPECT_FALSE(q.push(2));
+  EXPECT_TRUE(q.push(3));
+  EXPECT_EQ(q.pop(), 2);
+  EXPECT_EQ(q.pop(), 3);
+  q.close();
+  EXPECT_EQ(q.pop(), std::nullopt);
+}
+
+long vm_rss_kb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+// 10 000 pairs of full-size frames through pipeline, encoder and publisher
+// to a reading client: memory must stay flat (bounded queues, frames freed).
+TEST(PipelineMemory, RssStaysFlatOverTenThousandPairs) {
+  spdlog::set_level(spdlog::level::warn);
+  test::TempDir dir;
+  PublisherOptions options;
+  options.tcp = TcpEndpoint{"127.0.0.1", 0};
+  options.client_queue = 100000;  // a reader that lags under a sanitizer is not the subject here
+  auto publisher = Publisher::start(options, R"({"class":"hello","v":1,"daemon_version":"t","station":"s"})");
+  ASSERT_TRUE(publisher.ok()) << publisher.error().message;
+  auto client = test::LineClient::tcp((*publisher)->tcp_port());
+  ASSERT_TRUE(client.read_line());
+  std::atomic<std::uint64_t> received{0};
+  std::thread reader([&] {
+    while (client.read_line(10s)) ++received;
+  });
+
+  constexpr std::uint64_t kPairs = 10'000;
+  long rss_at_1000 = 0, rss_at_10000 = 0;
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = kPairs}), test::lost_posture,
+                    [&](const Posture& p) {
+                      (*publisher)->publish(encode_posture_line(p, StreamStats{p.seq + 1, 0, 0, 1, 0}));
+                      if (p.seq + 1 == 1000) rss_at_1000 = vm_rss_kb();
+                      if (p.seq + 1 == kPairs) rss_at_10000 = vm_rss_kb();
+                    },
+                    {.pair_queue = 4, .lossless = true});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return received.load() == kPairs; }, 60s)) << received.load() << " lines received";
+  pipeline.stop();
+  (*publisher)->stop();
+  reader.join();
+  spdlog::set_level(spdlog::level::info);
+  RecordProperty("rss_kb_at_1000", static_cast<int>(rss_at_1000));
+  RecordProperty("rss_kb_at_10000", static_cast<int>(rss_at_10000));
+  std::printf("VmRSS after 1000 pairs: %ld kB, after 10000 pairs: %ld kB\n", rss_at_1000, rss_at_10000);
+  ASSERT_GT(rss_at_1000, 0);
+  // Each pair holds 150 kB of pixels; a leak of one pair in ten would show as >130 MB.
+  EXPECT_LT(rss_at_10000 - rss_at_1000, 8 * 1024) << "memory grew by " << (rss_at_10000 - rss_at_1000) << " kB";
+}
+
+}  // namespace
+}  // namespace spinewatch

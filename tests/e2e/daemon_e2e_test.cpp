@@ -1,0 +1,285 @@
+// The real spinewatchd on phantom recordings: sockets, clients, signals, memory.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+
+#include <nlohmann/json.hpp>
+
+#include "../daemon/test_client.hpp"
+#include "daemon_process.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+using namespace std::chrono_literals;
+using test::DaemonProcess;
+using test::LineClient;
+
+std::uint16_t free_tcp_port() {
+  int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+// Connects once the daemon listens (it may still be starting).
+template <class Connect>
+std::optional<LineClient> connect_when_up(Connect connect, DaemonProcess& daemon) {
+  const auto deadline = std::chrono::steady_clock::now() + 15s;
+  while (std::chrono::steady_clock::now() < deadline && daemon.running()) {
+    try {
+      return connect();
+    } catch (const std::exception&) {
+      std::this_thread::sleep_for(20ms);
+    }
+  }
+  return std::nullopt;
+}
+
+class DaemonE2E : public ::testing::Test {
+ protected:
+  std::filesystem::path make_recording(int frames, int empty_frames = 2) {
+    const auto rec = dir / "rec";
+    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames " + std::to_string(frames) +
+                           " --empty-frames " + std::to_string(empty_frames) + " --out '" + rec.string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return rec;
+  }
+  std::filesystem::path write_config(const std::string& cameras) {
+    const auto path = dir / "spinewatch.toml";
+    test::write_file(path, "[station]\nname = \"e2e\"\n[cameras]\nfrontal = \"/nonexistent/video0\"\n"
+                           "lateral = \"/nonexistent/video2\"\ncalibration = \"/nonexistent/cal.yaml\"\n" +
+                               cameras + "[publish]\nclient_queue = 100000\n");
+    return path;
+  }
+  test::TempDir dir;
+};
+
+TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
+  const auto rec = make_recording(30);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
+  const auto port = free_tcp_port();
+  const auto sock = dir / "p.sock";
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "127.0.0.1:" + std::to_string(port),
+                        "--unix", sock.string()},
+                       dir / "daemon.log");
+  ASSERT_GT(daemon.pid(), 0);
+
+  auto a = connect_when_up([&] { return LineClient::tcp(port); }, daemon);
+  ASSERT_TRUE(a) << daemon.log();
+  auto b = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  ASSERT_TRUE(b) << daemon.log();
+  auto silent = LineClient::tcp(port, 4096);  // connects, never reads
+  auto flooder = LineClient::unix_socket(sock);
+
+  std::vector<std::string> lines_a, lines_b;
+  for (auto [client, lines] : {std::pair{&*a, &lines_a}, std::pair{&*b, &lines_b}}) {
+    auto hello = client->read_line();
+    ASSERT_TRUE(hello) << daemon.log();
+    lines->push_back(*hello);
+  }
+  flooder.send_text(std::string(64 * 1024, '!'));
+  // 45 lines at the recorded 30 Hz: 1.5 s.
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 45; ++i) {
+    auto la = a->read_line(2s);
+    auto lb = b->read_line(2s);
+    ASSERT_TRUE(la && lb) << "a reader stalled at line " << i << "\n" << daemon.log();
+    lines_a.push_back(*la);
+    lines_b.push_back(*lb);
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 4s) << "readers were slowed down";
+
+  const auto hello = nlohmann::json::parse(lines_a[0]);
+  EXPECT_EQ(hello.at("class"), "hello");
+  EXPECT_EQ(hello.at("station"), "e2e");
+  EXPECT_EQ(hello.at("source"), "recording " + rec.string());
+  EXPECT_EQ(lines_b[0], lines_a[0]);
+  for (auto* lines : {&lines_a, &lines_b}) {
+    auto first = nlohmann::json::parse((*lines)[1]).at("seq").get<std::uint64_t>();
+    for (std::size_t i = 1; i < lines->size(); ++i) {
+      const auto j = nlohmann::json::parse((*lines)[i]);
+      EXPECT_EQ(j.at("class"), "posture");
+      EXPECT_EQ(j.at("seq").get<std::uint64_t>(), first + i - 1) << "seq not consecutive";
+      EXPECT_TRUE(j.contains("stats"));
+    }
+  }
+  // 45 lines of a 32-frame recording: seq went on across the loop.
+  test::write_file(dir / "a.ndjson", [&] {
+    std::string s;
+    for (auto& l : lines_a) s += l + "\n";
+    return s;
+  }());
+  EXPECT_EQ(test::validate_ndjson(dir / "a.ndjson"), "");
+  EXPECT_TRUE(flooder.wait_closed(3s)) << "a flooding client was not dropped";
+  const auto last = nlohmann::json::parse(lines_a.back());
+  EXPECT_GE(last.at("stats").at("clients").get<int>(), 3);
+
+  const auto stop_start = std::chrono::steady_clock::now();
+  daemon.signal(SIGTERM);
+  const auto code = daemon.wait_exit(2s);
+  ASSERT_TRUE(code) << "no exit within 2 s of SIGTERM\n" << daemon.log();
+  EXPECT_EQ(*code, 0) << daemon.log();
+  std::printf("stopped %lld ms after SIGTERM\n",
+              static_cast<long long>(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - stop_start).count()));
+  EXPECT_FALSE(std::filesystem::exists(sock)) << "the socket file was left behind";
+  // Readers see the stream end cleanly: whole lines, then EOF.
+  while (auto l = a->read_line(1s)) EXPECT_NO_THROW(nlohmann::json::parse(*l));
+  EXPECT_TRUE(a->saw_eof());
+  const std::string log = daemon.log();
+  EXPECT_NE(log.find("dropped"), std::string::npos) << log;
+  EXPECT_NE(log.find("SIGTERM"), std::string::npos) << log;
+}
+
+TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
+  test::write_file(dir / "bad.toml", "[cameras]\nfps = 500\n");
+  auto r = test::run_command(std::string(SPINEWATCHD) + " --config '" + (dir / "bad.toml").string() + "' --unix none");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bad.toml:2: cameras.fps: 500 is out of range [1, 120]"), std::string::npos) << r.output;
+  auto missing = test::run_command(std::string(SPINEWATCHD) + " --config '" + (dir / "missing.toml").string() + "'");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("missing.toml: cannot be read"), std::string::npos) << missing.output;
+  auto bad_rec = write_config("source = \"recording\"\nrecording = \"" + (dir / "nowhere").string() + "\"\n");
+  auto r2 = test::run_command(std::string(SPINEWATCHD) + " --config '" + bad_rec.string() + "' --listen none --unix '" +
+                              (dir / "s.sock").string() + "'");
+  EXPECT_EQ(r2.exit_code, 1) << r2.output;
+  EXPECT_NE(r2.output.find("nowhere"), std::string::npos) << r2.output;
+  auto usage = test::run_command(std::string(SPINEWATCHD) + " --bogus");
+  EXPECT_EQ(usage.exit_code, 2) << usage.output;
+  auto bad_listen = test::run_command(std::string(SPINEWATCHD) + " --config '" + bad_rec.string() + "' --listen nonsense");
+  EXPECT_EQ(bad_listen.exit_code, 1) << bad_listen.output;
+}
+
+TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
+  const auto rec = make_recording(10);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
+  const auto sock = dir / "p.sock";
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+                       dir / "daemon.log");
+  ASSERT_TRUE(connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon)) << daemon.log();
+  auto json = test::run_cli("watch --unix '" + sock.string() + "' --json --count 5");
+  EXPECT_EQ(json.exit_code, 0) << json.output;
+  std::istringstream lines(json.output);
+  int postures = 0, hellos = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const auto j = nlohmann::json::parse(line);
+    (j.at("class") == "hello" ? hellos : postures)++;
+  }
+  EXPECT_EQ(hellos, 1);
+  EXPECT_EQ(postures, 5);
+  auto human = test::run_cli("watch --unix '" + sock.string() + "' --count 3");
+  EXPECT_EQ(human.exit_code, 0) << human.output;
+  // run_cli merges standard error (the hello summary) into the output.
+  std::istringstream human_lines(human.output);
+  int posture_lines = 0;
+  for (std::string line; std::getline(human_lines, line);)
+    if (line.find(" latency ") != std::string::npos) ++posture_lines;
+  EXPECT_EQ(posture_lines, 3) << human.output;
+  EXPECT_NE(human.output.find("station e2e"), std::string::npos) << human.output;
+  auto refused = test::run_cli("watch --unix '" + (dir / "nobody.sock").string() + "' --count 1");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  daemon.signal(SIGINT);
+  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+}
+
+// sd_notify through a datagram socket standing in for systemd's.
+TEST_F(DaemonE2E, NotifiesReadyStatusWatchdogAndStopping) {
+  const auto rec = make_recording(10);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
+  const auto notify_path = dir / "notify.sock";
+  int notify = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, notify_path.c_str(), sizeof addr.sun_path - 1);
+  ASSERT_EQ(::bind(notify, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  ::setenv("NOTIFY_SOCKET", notify_path.c_str(), 1);
+  ::setenv("WATCHDOG_USEC", "200000", 1);
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+                       dir / "daemon.log");
+  ::unsetenv("NOTIFY_SOCKET");
+  ::unsetenv("WATCHDOG_USEC");
+
+  std::vector<std::string> messages;
+  auto receive_for = [&](std::chrono::milliseconds span) {
+    const auto deadline = std::chrono::steady_clock::now() + span;
+    while (std::chrono::steady_clock::now() < deadline) {
+      pollfd p{notify, POLLIN, 0};
+      if (::poll(&p, 1, 20) <= 0) continue;
+      char buf[4096];
+      const ssize_t n = ::recv(notify, buf, sizeof buf, 0);
+      if (n > 0) messages.emplace_back(buf, static_cast<std::size_t>(n));
+    }
+  };
+  receive_for(1500ms);
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  receive_for(100ms);
+  ::close(notify);
+
+  auto count = [&](const std::string& prefix) {
+    return std::count_if(messages.begin(), messages.end(), [&](const std::string& m) { return m.rfind(prefix, 0) == 0; });
+  };
+  EXPECT_EQ(count("READY=1"), 1) << daemon.log();
+  EXPECT_GE(count("STATUS="), 1);
+  EXPECT_GE(count("WATCHDOG=1"), 5) << "expected a ping every 100 ms while pairs flow";
+  EXPECT_EQ(count("STOPPING=1"), 1);
+  ASSERT_FALSE(messages.empty());
+  EXPECT_EQ(messages.back(), "STOPPING=1");
+  const auto status = std::find_if(messages.begin(), messages.end(), [](auto& m) { return m.rfind("STATUS=", 0) == 0; });
+  ASSERT_NE(status, messages.end());
+  EXPECT_NE(status->find("pairs/s"), std::string::npos) << *status;
+  EXPECT_NE(status->find("clients"), std::string::npos) << *status;
+}
+
+// Under a sanitizer the run is shorter (and RSS includes shadow memory).
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::uint64_t kMemoryEarly = 500, kMemoryLate = 3000;
+#else
+constexpr std::uint64_t kMemoryEarly = 1000, kMemoryLate = 10000;
+#endif
+
+TEST_F(DaemonE2E, MemoryStaysFlatOverTenThousandPairs) {
+  // Mostly an empty scene: the estimator answers "no_person" quickly, so the
+  // run measures the daemon (queues, frames, sockets), not the fit's speed.
+  const auto rec = make_recording(1, 40);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\nreplay = \"fast\"\n");
+  const auto sock = dir / "p.sock";
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+                       dir / "daemon.log");
+  auto client = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  ASSERT_TRUE(client) << daemon.log();
+  ASSERT_TRUE(client->read_line());  // hello
+  long rss_1000 = -1, rss_10000 = -1;
+  std::uint64_t pairs = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (rss_10000 < 0) {
+    auto line = client->read_line(10s);
+    ASSERT_TRUE(line) << "stream ended at " << pairs << " pairs\n" << daemon.log();
+    // "pairs" in stats counts pairs taken from the source since start.
+    const auto at = line->find("\"pairs\":");
+    ASSERT_NE(at, std::string::npos);
+    pairs = std::stoull(line->substr(at + 8));
+    if (rss_1000 < 0 && pairs >= kMemoryEarly) rss_1000 = daemon.vm_rss_kb();
+    if (pairs >= kMemoryLate) rss_10000 = daemon.vm_rss_kb();
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("spinewatchd VmRSS at %llu pairs: %ld kB, at %llu pairs: %ld kB (%.1f s)\n",
+              static_cast<unsigned long long>(kMemoryEarly), rss_1000, static_cast<unsigned long long>(kMemoryLate),
+              rss_10000, seconds);
+  RecordProperty("rss_kb_at_1000", static_cast<int>(rss_1000));
+  RecordProperty("rss_kb_at_10000", static_cast<int>(rss_10000));
+  ASSERT_GT(rss_1000, 0);
+  // One pair is 300 kB of pixels: keeping even 1 % of them would add ~30 MB.
+  EXPECT_LT(rss_10000 - rss_1000, 16 * 1024) << daemon.log();
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,65 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "spinewatch/phantom/scenario.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch::phantom {
+namespace {
+
+TEST(PhantomCli, ListsEveryScenario) {
+  auto r = test::run_cli("phantom --list");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const Scenario& s : scenarios()) EXPECT_NE(r.output.find(std::string(s.name) + " "), std::string::npos) << s.name;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), std::ptrdiff_t(scenarios().size()));
+}
+
+TEST(PhantomCli, WritesARecording) {
+  test::TempDir dir;
+  auto r = test::run_cli("phantom --scenario fast --frames 20 --empty-frames 2 --seed 3 --shadow --subject " +
+                         test::source_path("config/subjects/tall.json").string() + " --out " + (dir / "rec").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* file : {"frontal.raw", "lateral.raw", "recording.json", "calibration.yaml", "ground_truth.ndjson",
+                           "background_frontal.png", "background_lateral.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "rec" / file)) << file;
+  EXPECT_EQ(std::filesystem::file_size(dir / "rec" / "frontal.raw"), 22u * 320 * 240 * 2);
+  const std::string truth = test::read_file(dir / "rec" / "ground_truth.ndjson");
+  EXPECT_EQ(std::count(truth.begin(), truth.end(), '\n'), 22);
+  EXPECT_NE(test::read_file(dir / "rec" / "recording.json").find("\"tall\""), std::string::npos);
+}
+
+TEST(PhantomCli, UnknownScenarioExitsTwo) {
+  test::TempDir dir;
+  auto r = test::run_cli("phantom --scenario backflip --out " + (dir / "rec").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("backflip"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "rec"));
+}
+
+TEST(PhantomCli, MissingOutExitsTwo) {
+  auto r = test::run_cli("phantom --scenario upright");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+}
+
+TEST(PhantomCli, BadSubjectExitsOneNamingTheField) {
+  test::TempDir dir;
+  std::string text = test::read_file(test::source_path("config/subjects/generic.json"));
+  text.replace(text.find("\"mass_kg\": 75"), 13, "\"mass_kg\": \"heavy\"");
+  test::write_file(dir / "bad.json", text);
+  auto r = test::run_cli("phantom --scenario upright --subject " + (dir / "bad.json").string() + " --out " +
+                         (dir / "rec").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bad.json: mass_kg: expected a number"), std::string::npos) << r.output;
+}
+
+TEST(PhantomCli, UnwritableOutExitsOne) {
+  test::TempDir dir;
+  test::write_file(dir / "file", "x");
+  auto r = test::run_cli("phantom --scenario upright --frames 2 --out " + (dir / "file" / "rec").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+}  // namespace
+}  // namespace spinewatch::phantom

@@ -1,0 +1,198 @@
+// Silhouette extraction: background learning, exposure compensation,
+// cleaning to the person's blob, status flags, and agreement with an
+// OpenCV reference (absdiff / threshold / morphology / connectedComponents).
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
+
+namespace spinewatch {
+namespace {
+
+constexpr int kW = 320, kH = 240;
+
+cv::Mat background_image() {
+  cv::Mat bg(kH, kW, CV_8U);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(150 + 40 * x / kW + 20 * ((x / 16 + y / 16) % 2));
+  return bg;
+}
+
+// A person-like shape (head, trunk, legs) darker than the background, with shading.
+cv::Mat person_mask(int dx = 0) {
+  cv::Mat m(kH, kW, CV_8U, cv::Scalar(0));
+  cv::ellipse(m, {160 + dx, 40}, {14, 18}, 0, 0, 360, 255, cv::FILLED);
+  cv::rectangle(m, cv::Rect(135 + dx, 58, 50, 90), 255, cv::FILLED);
+  cv::rectangle(m, cv::Rect(138 + dx, 148, 18, 92), 255, cv::FILLED);
+  cv::rectangle(m, cv::Rect(164 + dx, 148, 18, 92), 255, cv::FILLED);
+  return m;
+}
+
+cv::Mat compose(const cv::Mat& bg, const cv::Mat& person, double gain, double noise, std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, noise);
+  cv::Mat out(kH, kW, CV_8U);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const double base = person.at<std::uint8_t>(y, x) ? 60 + 15 * std::sin(x * 0.2) * std::cos(y * 0.1) : bg.at<std::uint8_t>(y, x);
+      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(gain * base + n(rng));
+    }
+  return out;
+}
+
+LumaView view_of(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; }
+
+SilhouetteExtractor learned(const cv::Mat& bg, std::mt19937& rng, SilhouetteOptions opt = {}) {
+  SilhouetteExtractor ex(opt);
+  for (int i = 0; i < opt.learn_frames; ++i) {
+    const cv::Mat empty = compose(bg, cv::Mat(kH, kW, CV_8U, cv::Scalar(0)), 1.0, 2.0, rng);
+    EXPECT_EQ(ex.extract(view_of(empty)).status, SilhouetteStatus::LearningBackground);
+  }
+  EXPECT_TRUE(ex.background_ready());
+  return ex;
+}
+
+std::int64_t differing(const BitMask& a, const cv::Mat& b) {
+  std::int64_t n = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) n += a.get(x, y) != (b.at<std::uint8_t>(y, x) != 0);
+  return n;
+}
+
+TEST(BitMask, PacksRowsIntoWords) {
+  BitMask m(320, 2);
+  EXPECT_EQ(m.words_per_row(), 5);
+  m.set_span(1, 60, 130);
+  EXPECT_EQ(m.count(), 71);
+  EXPECT_EQ(m.count_row(0), 0);
+  EXPECT_TRUE(m.get(60, 1));
+  EXPECT_TRUE(m.get(130, 1));
+  EXPECT_FALSE(m.get(59, 1));
+  EXPECT_FALSE(m.get(131, 1));
+  m.set_span(0, -5, 400);  // clipped
+  EXPECT_EQ(m.count_row(0), 320);
+}
+
+TEST(Silhouette, LearnsBackgroundAndFindsThePersonUnderFlicker) {
+  std::mt19937 rng(1);
+  const cv::Mat bg = background_image();
+  SilhouetteExtractor ex = learned(bg, rng);
+  const cv::Mat person = person_mask();
+  const auto truth = cv::countNonZero(person);
+  for (double gain : {0.97, 1.0, 1.03, 1.08}) {
+    const cv::Mat frame = compose(bg, person, gain, 2.0, rng);
+    const SilhouetteResult r = ex.extract(view_of(frame));
+    EXPECT_EQ(r.status, SilhouetteStatus::Person) << gain;
+    EXPECT_NEAR(r.gain, gain, 0.01);
+    EXPECT_EQ(r.pixels, r.mask.count());
+    EXPECT_LT(differing(r.mask, person), truth / 100) << "gain " << gain;
+  }
+}
+
+TEST(Silhouette, AgreesWithOpenCvReference) {
+  std::mt19937 rng(2);
+  const cv::Mat bg = background_image();
+  SilhouetteExtractor ex = learned(bg, rng);
+  const cv::Mat frame = compose(bg, person_mask(20), 1.03, 3.0, rng);
+  const SilhouetteResult r = ex.extract(view_of(frame));
+
+  // Reference: the same gain, then absdiff / threshold / closing / largest component.
+  cv::Mat bgf, scaled, diff, fg, closed, labels, stats, centroids;
+  cv::Mat learned_bg(kH, kW, CV_8U, const_cast<std::uint8_t*>(ex.background().data()));
+  learned_bg.convertTo(scaled, CV_32F, r.gain);
+  frame.convertTo(bgf, CV_32F);
+  cv::absdiff(bgf, scaled, diff);
+  cv::threshold(diff, fg, 28.0, 255, cv::THRESH_BINARY);
+  fg.convertTo(fg, CV_8U);
+  cv::morphologyEx(fg, closed, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_CROSS, {3, 3}), {-1, -1}, 1,
+                   cv::BORDER_REPLICATE);
+  const int n = cv::connectedComponentsWithStats(closed, labels, stats, centroids, 8);
+  int best = 1;
+  for (int i = 2; i < n; ++i)
+    if (stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+  const cv::Mat ref = labels == best;
+  EXPECT_LE(differing(r.mask, ref), cv::countNonZero(ref) / 200) << "more than 0.5 % of pixels differ";
+}
+
+TEST(Silhouette, YuyvViewGivesTheSameMaskAsGrey) {
+  std::mt19937 rng(3);
+  const cv::Mat bg = background_image();
+  const cv::Mat frame = compose(bg, person_mask(), 1.0, 2.0, rng);
+  std::vector<std::uint8_t> yuyv(static_cast<std::size_t>(kW * kH * 2), 128), bg_yuyv(yuyv.size(), 128);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      yuyv[static_cast<std::size_t>((y * kW + x) * 2)] = frame.at<std::uint8_t>(y, x);
+      bg_yuyv[static_cast<std::size_t>((y * kW + x) * 2)] = bg.at<std::uint8_t>(y, x);
+    }
+  SilhouetteOptions opt;
+  opt.background = BackgroundMode::Image;
+  SilhouetteExtractor grey(opt), packed(opt);
+  ASSERT_TRUE(grey.set_background(view_of(bg)).ok());
+  ASSERT_TRUE(packed.set_background({bg_yuyv.data(), kW, kH, kW * 2, 2}).ok());
+  const auto a = grey.extract(view_of(frame));
+  const auto b = packed.extract({yuyv.data(), kW, kH, kW * 2, 2});
+  EXPECT_EQ(a.status, SilhouetteStatus::Person);
+  EXPECT_TRUE(a.mask == b.mask);
+}
+
+TEST(Silhouette, RemovesSmallBlobsAndFillsPinholes) {
+  std::mt19937 rng(4);
+  const cv::Mat bg = background_image();
+  SilhouetteExtractor ex = learned(bg, rng);
+  cv::Mat person = person_mask();
+  cv::Mat frame = compose(bg, person, 1.0, 2.0, rng);
+  cv::rectangle(frame, cv::Rect(20, 20, 6, 6), 0, cv::FILLED);  // a 36-pixel speck
+  frame.at<std::uint8_t>(100, 160) = bg.at<std::uint8_t>(100, 160);  // a pinhole in the trunk
+  const auto r = ex.extract(view_of(frame));
+  EXPECT_EQ(r.status, SilhouetteStatus::Person);
+  EXPECT_FALSE(r.mask.get(22, 22));
+  EXPECT_TRUE(r.mask.get(160, 100));
+  EXPECT_EQ(r.blobs, 1);
+}
+
+TEST(Silhouette, FlagsNoPersonTwoBlobsAndOcclusion) {
+  std::mt19937 rng(5);
+  const cv::Mat bg = background_image();
+  SilhouetteExtractor ex = learned(bg, rng);
+  const cv::Mat none(kH, kW, CV_8U, cv::Scalar(0));
+  EXPECT_EQ(ex.extract(view_of(compose(bg, none, 1.02, 2.0, rng))).status, SilhouetteStatus::NoPerson);
+
+  cv::Mat two = person_mask(-70) | person_mask(70);
+  const auto r2 = ex.extract(view_of(compose(bg, two, 1.0, 2.0, rng)));
+  EXPECT_EQ(r2.status, SilhouetteStatus::TwoBlobs);
+  EXPECT_EQ(r2.blobs, 2);
+  EXPECT_GT(r2.second_blob_px, 1000);
+
+  const auto r3 = ex.extract(view_of(compose(bg, person_mask(-150), 1.0, 2.0, rng)));
+  EXPECT_EQ(r3.status, SilhouetteStatus::Occluded);
+  EXPECT_EQ(flag_of(r3.status), "occluded");
+}
+
+TEST(Silhouette, PlainThresholdAgainstUniformBackdrop) {
+  std::mt19937 rng(6);
+  SilhouetteOptions opt;
+  opt.background = BackgroundMode::Threshold;
+  SilhouetteExtractor ex(opt);
+  const cv::Mat flat(kH, kW, CV_8U, cv::Scalar(190));
+  const cv::Mat person = person_mask();
+  const auto r = ex.extract(view_of(compose(flat, person, 1.0, 2.0, rng)));
+  EXPECT_EQ(r.status, SilhouetteStatus::Person);
+  EXPECT_LT(differing(r.mask, person), cv::countNonZero(person) / 100);
+}
+
+TEST(Silhouette, BadInputIsAnErrorNotACrash) {
+  EXPECT_FALSE(parse_background_mode("auto").ok());
+  EXPECT_NE(parse_background_mode("auto").error().message.find("silhouette.background"), std::string::npos);
+  SilhouetteExtractor ex;
+  EXPECT_FALSE(ex.set_background({}).ok());
+  std::vector<std::uint8_t> small(16 * 8, 100);
+  const auto r = ex.extract({small.data(), 16, 8, 16, 1});
+  EXPECT_EQ(r.status, SilhouetteStatus::LearningBackground);
+  std::vector<std::uint8_t> other(32 * 8, 100);
+  EXPECT_EQ(ex.extract({other.data(), 32, 8, 32, 1}).status, SilhouetteStatus::NoPerson);  // size changed
+}
+
+}  // namespace
+}  // namespace spinewatch

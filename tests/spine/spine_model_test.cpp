@@ -1,0 +1,158 @@
+// Particle bodies (Eqs. 1–9), vertebra solids, SUBJECT.json and the model's
+// discs.
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include "spine_truth.hpp"
+#include "spinewatch/estimator/spine/spine_model.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+TEST(MassProperties, VoxelisedBoxMatchesAnalyticValues) {
+  Solid box;
+  // Off-centre and rotated 30° about Y so every tensor element is exercised.
+  const Eigen::Matrix3d axes = Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  // Faces off the voxel grid: a face on it would add a whole layer of cells.
+  box.boxes.push_back({Eigen::Vector3d(3.25, -2.25, 5.25), axes, Eigen::Vector3d(10, 5, 15)});
+  const double voxel = 0.5, rho = 1000.0;  // kg/m³
+  const auto particles = voxelise(box, voxel);
+  const double pm = rho * std::pow(voxel * 1e-3, 3);
+  const MassProperties mp = mass_properties(particles, pm, voxel);
+
+  const double volume_m3 = 20e-3 * 10e-3 * 30e-3;
+  EXPECT_NEAR(mp.mass_kg, rho * volume_m3, 0.02 * rho * volume_m3);
+  EXPECT_LT((mp.com_mm - Eigen::Vector3d(3.25, -2.25, 5.25)).norm(), 0.3);
+  // Analytic tensor in the box frame, rotated into the world: I = R diag Rᵀ.
+  const double m = mp.mass_kg, a = 20, b = 10, c = 30;
+  const Eigen::Vector3d principal(m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12);
+  const Eigen::Matrix3d expected = axes * principal.asDiagonal() * axes.transpose();
+  EXPECT_LT((mp.inertia_kg_mm2 - expected).norm() / expected.norm(), 0.03);
+  EXPECT_GT(std::abs(mp.inertia_kg_mm2(0, 2)), 0.1 * expected.norm());  // a product of inertia is present
+}
+
+TEST(MassProperties, AxisAlignedBoxIsExactWithVoxelSelfInertia) {
+  Solid box;
+  box.boxes.push_back({Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), Eigen::Vector3d(10, 5, 15)});
+  const auto particles = voxelise(box, 1.0);
+  ASSERT_EQ(particles.size(), std::size_t(21 * 11 * 31));  // cells centred on whole millimetres, faces included
+  // Treat each particle as a 1 mm cube of 1 g: the solid is then a 21×11×31 mm box.
+  const MassProperties mp = mass_properties(particles, 1e-3, 1.0);
+  const double m = mp.mass_kg;
+  EXPECT_NEAR(mp.inertia_kg_mm2(0, 0), m * (11.0 * 11 + 31.0 * 31) / 12, 1e-9 * m * 1000);
+  EXPECT_NEAR(mp.inertia_kg_mm2(1, 1), m * (21.0 * 21 + 31.0 * 31) / 12, 1e-9 * m * 1000);
+  EXPECT_NEAR(mp.inertia_kg_mm2(2, 2), m * (21.0 * 21 + 11.0 * 11) / 12, 1e-9 * m * 1000);
+  EXPECT_NEAR(mp.inertia_kg_mm2(0, 1), 0.0, 1e-9);
+}
+
+TEST(MassProperties, VoxelisedEllipticCylinderMatchesAnalyticValues) {
+  Solid cyl;
+  cyl.cylinders.push_back({Eigen::Vector3d(0, 4, 0), 17.5, 23.0, 14.0});  // an L3 body: depth 35, width 46, height 28
+  const double voxel = 0.5;
+  const auto particles = voxelise(cyl, voxel);
+  const MassProperties mp = mass_properties(particles, 1e-6, voxel);
+  const double a = 17.5, b = 23.0, h = 28.0;
+  const double volume_mm3 = M_PI * a * b * h;
+  EXPECT_NEAR(double(particles.size()) * std::pow(voxel, 3), volume_mm3, 0.02 * volume_mm3);
+  const double m = mp.mass_kg;
+  EXPECT_LT((mp.com_mm - Eigen::Vector3d(0, 4, 0)).norm(), 0.05);
+  EXPECT_NEAR(mp.inertia_kg_mm2(1, 1), m * (a * a + b * b) / 4, 0.02 * m * (a * a + b * b) / 4);
+  EXPECT_NEAR(mp.inertia_kg_mm2(0, 0), m * (b * b / 4 + h * h / 12), 0.02 * m * (b * b / 4 + h * h / 12));
+  EXPECT_NEAR(mp.inertia_kg_mm2(2, 2), m * (a * a / 4 + h * h / 12), 0.02 * m * (a * a / 4 + h * h / 12));
+}
+
+TEST(VertebraGeometry, EmbeddedFileParsesAndBadValuesAreNamed) {
+  const VertebraGeometry& g = generic_vertebra_geometry();
+  EXPECT_GT(g.bone_density_kg_per_m3, 1000);
+  EXPECT_NEAR(g.disc.tension_ratio, 0.1, 1e-12);
+  std::string text(vertebra_geometry_toml());
+  const auto pos = text.find("density_kg_per_m3 = 1250.0");
+  ASSERT_NE(pos, std::string::npos);
+  text.replace(pos, 26, "density_kg_per_m3 = -5.0");
+  auto bad = parse_vertebra_geometry(text, "geo.toml");
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("geo.toml:"), std::string::npos) << bad.error().message;
+  EXPECT_NE(bad.error().message.find("bone.density_kg_per_m3"), std::string::npos) << bad.error().message;
+}
+
+TEST(SpineModel, VertebraeArePosteriorHeavyParticleBodies) {
+  const SpineModel model = SpineModel::generic(1750);
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    const VertebraBody& b = model.vertebra(i);
+    EXPECT_GT(b.mass.mass_kg, 0.004) << b.name;
+    EXPECT_LT(b.mass.mass_kg, 0.12) << b.name;
+    // The body centroid (what body_center reports) sits at the local origin;
+    // the whole vertebra's centre of mass lies behind it (posterior elements).
+    EXPECT_LT(b.body_centroid_mm.norm(), 0.6) << b.name;
+    EXPECT_LT(b.mass.com_mm.x(), -3.0) << b.name;
+    EXPECT_NEAR(b.mass.com_mm.z(), 0.0, 0.5) << b.name;  // left-right symmetric
+    // Principal moments are positive and satisfy the triangle inequality.
+    const Eigen::Vector3d I = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(b.mass.inertia_kg_mm2).eigenvalues();
+    EXPECT_GT(I.minCoeff(), 0) << b.name;
+    EXPECT_LE(I[2], I[0] + I[1] + 1e-9) << b.name;
+  }
+  EXPECT_GT(model.vertebra(kWaistIndex).mass.mass_kg, 2 * model.vertebra(kNeckIndex).mass.mass_kg);
+}
+
+TEST(SpineModel, DiscSpringsAreSymmetricAboutTheDiscCentre) {
+  const SpineModel model = SpineModel::generic(1750);
+  const SpinePose& n = model.neutral();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const Disc& d = model.disc(j);
+    const Eigen::Vector3d centre = 0.5 * (n[j].body_center + n[j + 1].body_center);
+    Eigen::Vector3d sum_upper = Eigen::Vector3d::Zero(), sum_lower = Eigen::Vector3d::Zero();
+    for (const DiscSpring& s : d.springs) {
+      sum_upper += n[j].body_center + n[j].q * s.upper_local_mm - centre;
+      sum_lower += n[j + 1].body_center + n[j + 1].q * s.lower_local_mm - centre;
+      EXPECT_NEAR(s.k_tension_n_per_mm, 0.1 * s.k_compression_n_per_mm, 1e-9);
+    }
+    // Attachments balance about the centre: the upper set's mean is as far
+    // above it as the lower set's is below.
+    EXPECT_LT((sum_upper + sum_lower).norm(), 1e-9) << j;
+    // Stiffer joints where the range of motion is smaller.
+    const JointSpec& js = model.spec().joints[j];
+    EXPECT_NEAR(d.range_stiffness_nm_per_rad.x() * js.lateral_deg * M_PI / 180, 7.5, 1e-9);
+    EXPECT_GT(d.rotational_spring_nm_per_rad.minCoeff(), 0);
+  }
+}
+
+TEST(Subject, RoundTripsAndBuildsTheSameNeutral) {
+  const auto truth = test::make_subject(1900, 0.7);
+  test::TempDir dir;
+  test::write_file(dir / "subject.json", subject_to_json(truth.spine));
+  auto model = SpineModel::from_subject_file(dir / "subject.json");
+  ASSERT_TRUE(model) << model.error().message;
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    EXPECT_LT((model->neutral()[i].body_center - truth.spine[i].pose.body_center).norm(), 1e-9);
+    EXPECT_NEAR(model->vertebra(i).dims.width_mm, truth.spine[i].dims.width_mm, 1e-9);
+  }
+}
+
+TEST(Subject, ErrorsNameTheFileAndTheField) {
+  const std::string good = subject_to_json(generic_subject(1750));
+  struct Case {
+    std::string from, to, field;
+  };
+  for (const Case& c : {Case{"\"T3\"", "\"T9\"", "vertebrae[2].name"},
+                        Case{"\"height_mm\": 15.5", "\"height_mm\": -1", "vertebrae[2].height_mm"},
+                        Case{"\"depth_mm\": 18.9", "\"depth_mm\": \"x\"", "vertebrae[2].depth_mm"}}) {
+    std::string text = good;
+    const auto pos = text.find(c.from);
+    ASSERT_NE(pos, std::string::npos) << c.from;
+    text.replace(pos, c.from.size(), c.to);
+    auto r = parse_subject_json(text, "s.json");
+    ASSERT_FALSE(r) << c.field;
+    EXPECT_EQ(r.error().message.rfind("s.json: " + c.field, 0), 0u) << r.error().message;
+  }
+  EXPECT_FALSE(parse_subject_json("{\"vertebrae\": []}", "s.json"));
+  EXPECT_FALSE(parse_subject_json("not json", "s.json"));
+  auto missing = SpineModel::from_subject_file("/nonexistent/subject.json");
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find("/nonexistent/subject.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,257 @@
+// spinewatch record: both cameras (V4L2) into a recording directory with
+// the driver's sequence numbers and timestamps, and the calibration in use.
+#include <pthread.h>
+#include <signal.h>
+#include <time.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "command.hpp"
+#include "spinewatch/capture/recording.hpp"
+#include "spinewatch/capture/v4l2_camera.hpp"
+#include "spinewatch/daemon/config.hpp"
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/sync/frame_pairer.hpp"
+#include "spinewatch/sync/gpiod_trigger_line.hpp"
+#include "spinewatch/sync/trigger_master.hpp"
+#include "spinewatch/sync/trigger_slave.hpp"
+
+namespace spinewatch::cli {
+namespace {
+
+struct RecordOptions {
+  std::string out;
+  std::string frontal;
+  std::string lateral;
+  std::string config;
+  std::optional<std::uint64_t> frames;
+  std::optional<double> seconds;
+};
+
+V4l2CameraOptions camera_options(const Config::Cameras& c, PixelFormat format, const std::string& path,
+                                 const char* name) {
+  V4l2CameraOptions o;
+  o.path = path;
+  o.name = name;
+  o.pixel_format = format;
+  o.width = static_cast<std::uint32_t>(c.width);
+  o.height = static_cast<std::uint32_t>(c.height);
+  o.fps = c.fps;
+  o.exposure_us = c.exposure_us;
+  o.gain = c.gain;
+  o.buffers = static_cast<unsigned>(c.buffers);
+  o.watchdog_s = c.watchdog_s;
+  return o;
+}
+
+// The trigger of the configured mode, feeding edges to `on_edge`.
+struct Trigger {
+  std::unique_ptr<sync::TriggerOutputLine> output;
+  std::unique_ptr<sync::TriggerInputLine> input;
+  std::unique_ptr<sync::TriggerMaster> master;
+  std::unique_ptr<sync::TriggerSlave> slave;
+  void stop() {
+    if (master) master->stop();
+    if (slave) slave->stop();
+  }
+};
+
+Status start_trigger(const Config& config, Trigger& trigger, std::function<void(std::int64_t)> on_edge) {
+  const auto& t = config.trigger;
+  if (t.mode == "master") {
+    auto line = sync::open_gpiod_output(t.chip, static_cast<unsigned>(t.line), "spinewatch-record");
+    if (!line) return line.error();
+    trigger.output = std::move(line.value());
+    trigger.master = std::make_unique<sync::TriggerMaster>(
+        *trigger.output, sync::TriggerMasterOptions{.fps = config.cameras.fps, .pulse_us = t.pulse_us}, on_edge);
+  } else if (t.mode == "slave") {
+    auto line = sync::open_gpiod_input(t.chip, static_cast<unsigned>(t.line), "spinewatch-record");
+    if (!line) return line.error();
+    trigger.input = std::move(line.value());
+    trigger.slave = std::make_unique<sync::TriggerSlave>(*trigger.input, on_edge);
+  }
+  return Ok{};
+}
+
+// SIGINT/SIGTERM end the recording cleanly: a thread waits for them (they
+// are blocked everywhere else) and stops the cameras.
+class StopOnSignal {
+ public:
+  explicit StopOnSignal(std::function<void()> on_signal) : on_signal_(std::move(on_signal)) {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set_, &old_);
+    thread_ = std::thread([this] {
+      const timespec poll{0, 50'000'000};
+      while (!done_.load()) {
+        if (sigtimedwait(&set_, nullptr, &poll) > 0) {
+          spdlog::info("record: stopping on signal");
+          on_signal_();
+        }
+      }
+    });
+  }
+  ~StopOnSignal() {
+    done_.store(true);
+    thread_.join();
+    pthread_sigmask(SIG_SETMASK, &old_, nullptr);
+  }
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+
+ private:
+  std::function<void()> on_signal_;
+  sigset_t set_{}, old_{};
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+int record(const RecordOptions& opts) {
+  Config config;
+  if (!opts.config.empty()) {
+    auto loaded = load_config(opts.config);
+    if (!loaded) {
+      spdlog::error("{}", loaded.error().message);
+      return 1;
+    }
+    config = std::move(loaded.value());
+  }
+  const auto format = parse_pixel_format(config.cameras.pixel_format);
+  if (!format) {
+    spdlog::error("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format);
+    return 1;
+  }
+  const std::string paths[2] = {opts.frontal.empty() ? config.cameras.frontal : opts.frontal,
+                                opts.lateral.empty() ? config.cameras.lateral : opts.lateral};
+  const char* names[2] = {"frontal", "lateral"};
+  std::unique_ptr<V4l2Camera> cameras[2];
+  for (int v = 0; v < 2; ++v) {
+    cameras[v] = std::make_unique<V4l2Camera>(camera_options(config.cameras, *format, paths[v], names[v]));
+    if (auto started = cameras[v]->start(); !started) {
+      spdlog::error("{}", started.error().message);
+      return 1;
+    }
+  }
+  if (cameras[0]->format() != cameras[1]->format()) {
+    spdlog::error("the cameras disagree on the format: frontal {}, lateral {}", describe(cameras[0]->format()),
+                  describe(cameras[1]->format()));
+    return 1;
+  }
+  CameraRig rig = CameraRig::default_rig();
+  const std::filesystem::path calibration = config.cameras.calibration;
+  if (std::filesystem::exists(calibration)) {
+    auto loaded = load_calibration(calibration);
+    if (!loaded) {
+      spdlog::error("{}", loaded.error().message);
+      return 1;
+    }
+    rig = loaded.value();
+  } else {
+    spdlog::warn("{} not found: the recording gets the default rig (two ideal orthogonal cameras)",
+                 calibration.string());
+  }
+
+  auto writer = RecordingWriter::create(opts.out, cameras[0]->format(), cameras[0]->fps());
+  if (!writer) {
+    spdlog::error("{}", writer.error().message);
+    return 1;
+  }
+
+  std::atomic<bool> stopping{false};
+  auto stop_all = [&] {
+    stopping.store(true);
+    for (auto& c : cameras) c->stop();
+  };
+  // Before any thread starts, so that every thread inherits the blocked signals.
+  StopOnSignal on_signal(stop_all);
+
+  // Pairing runs alongside only to report how the streams will pair on replay.
+  std::mutex mutex;  // writer, pairer
+  sync::FramePairer pairer({.fps = cameras[0]->fps(), .triggered = config.trigger.mode != "free-run"});
+  Trigger trigger;
+  auto started = start_trigger(config, trigger, [&](std::int64_t t) {
+    std::lock_guard lock(mutex);
+    pairer.push_trigger(t);
+    while (pairer.pop()) {
+    }
+  });
+  if (!started) {
+    spdlog::error("{}", started.error().message);
+    return 1;
+  }
+
+  std::atomic<bool> write_failed{false};
+  std::uint64_t written[2] = {0, 0};
+  const auto t0 = std::chrono::steady_clock::now();
+  auto capture = [&](int v) {
+    while (!stopping.load() && (!opts.frames || written[v] < *opts.frames)) {
+      if (opts.seconds && std::chrono::steady_clock::now() - t0 >= std::chrono::duration<double>(*opts.seconds)) break;
+      // Nothing on a timeout (the camera's watchdog logs a silent camera) or after stop().
+      auto frame = cameras[v]->next(std::chrono::milliseconds(200));
+      if (!frame) continue;
+      std::lock_guard lock(mutex);
+      if (auto w = writer->write(static_cast<View>(v), *frame); !w) {
+        spdlog::error("{}", w.error().message);
+        write_failed.store(true);
+        stop_all();
+        break;
+      }
+      ++written[v];
+      pairer.push(static_cast<sync::Stream>(v), std::move(*frame));
+      while (pairer.pop()) {
+      }
+    }
+  };
+  std::thread threads[2] = {std::thread(capture, 0), std::thread(capture, 1)};
+  for (auto& t : threads) t.join();
+  trigger.stop();
+  pairer.flush();
+
+  for (int v = 0; v < 2; ++v) {
+    const auto c = cameras[v]->counters();
+    spdlog::info("{}: {} frames written; dropped {} error, {} sequence gaps; {} restarts", names[v], written[v],
+                 c.dropped_error, c.dropped_gap, c.restarts);
+  }
+  spdlog::info("pairing: {}", pairer.stats().summary());
+  if (write_failed.load()) return 1;
+  const std::string notes = fmt::format("spinewatch record: frontal {}, lateral {}", paths[0], paths[1]);
+  if (auto finished = writer->finish(nullptr, notes); !finished) {
+    spdlog::error("{}", finished.error().message);
+    return 1;
+  }
+  if (auto saved = save_calibration(std::filesystem::path(opts.out) / "calibration.yaml", rig); !saved) {
+    spdlog::error("{}", saved.error().message);
+    return 1;
+  }
+  spdlog::info("recorded to {}", opts.out);
+  return 0;
+}
+
+}  // namespace
+
+void add_record_command(CLI::App& app, ExitCode& exit_code) {
+  auto opts = std::make_shared<RecordOptions>();
+  auto* cmd = app.add_subcommand("record", "Record both cameras into a recording directory");
+  cmd->add_option("--out", opts->out, "recording directory to create")->required();
+  cmd->add_option("--frontal", opts->frontal, "frontal camera device (default: cameras.frontal)");
+  cmd->add_option("--lateral", opts->lateral, "lateral camera device (default: cameras.lateral)");
+  cmd->add_option("--config", opts->config, "TOML configuration (default: built-in defaults)");
+  auto* frames = cmd->add_option("--frames", opts->frames, "stop after N frames from each camera")->check(CLI::PositiveNumber);
+  auto* seconds = cmd->add_option("--seconds", opts->seconds, "stop after S seconds")->check(CLI::PositiveNumber);
+  frames->excludes(seconds);
+  cmd->footer("Without --frames or --seconds, records until SIGINT (Ctrl-C) or SIGTERM.\n");
+  cmd->callback([opts, &exit_code] { exit_code.value = record(*opts); });
+}
+
+}  // namespace spinewatch::cli

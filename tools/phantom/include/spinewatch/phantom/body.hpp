@@ -1,0 +1,63 @@
+#pragma once
+// The subject's body posed for one instant: the ground-truth spine and the
+// solids the renderer draws around it.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "spinewatch/estimator/anatomy/kinematics.hpp"
+#include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/phantom/scenario.hpp"
+#include "spinewatch/phantom/subject.hpp"
+
+namespace spinewatch::phantom {
+
+// A convex body part given by points on its surface; its image is the
+// convex hull of their projections.
+struct Solid {
+  std::vector<Eigen::Vector3d> points;
+  std::uint8_t shade = 80;  // grey level of its clothing or skin
+};
+
+struct BodyPose {
+  SpinePose spine;          // exactly what the solids are built around
+  SegmentalMotion motion;   // what posed it
+  std::vector<Solid> solids;
+};
+
+// Share of whole-trunk flexion taken by the pelvis (the spine takes the rest).
+inline constexpr double kPelvisFlexionShare = 1.0 / 3.0;
+
+class BodyModel {
+ public:
+  // Per-joint factors come from the subject, else from `seed` (±20 %).
+  BodyModel(Subject subject, SubjectPosture posture, std::uint32_t seed);
+
+  const Subject& subject() const { return subject_; }
+  SubjectPosture posture() const { return posture_; }
+  const std::array<JointAngles, kJointCount>& joint_factors() const { return factors_; }
+  const SpinePose& neutral() const { return neutral_; }
+
+  BodyPose pose(const TrunkMotion& motion) const;
+  // The spine's segmental motion for a whole-trunk motion: the spine's part
+  // spread over the joints, and the pelvis rotating about the hip joints.
+  SegmentalMotion segmental_motion(const TrunkMotion& motion) const;
+
+ private:
+  void add_trunk(const SpinePose& spine, std::vector<Solid>& out) const;
+  void add_head_and_arms(const SpinePose& spine, std::vector<Solid>& out) const;
+  void add_legs(std::vector<Solid>& out) const;
+  Eigen::Vector3d hip_offset(double side) const;  // in the L5 frame, side −1 left / +1 right
+
+  Subject subject_;
+  SubjectPosture posture_;
+  double scale_;  // subject height / reference height
+  std::array<JointAngles, kJointCount> factors_;
+  std::array<JointAngles, kJointCount> shares_;  // each joint's share, renormalised
+  SpinePose neutral_;
+};
+
+}  // namespace spinewatch::phantom

@@ -1,0 +1,87 @@
+#pragma once
+// A phantom recording: a scenario played by a subject in front of the two
+// calibrated cameras, frame by frame, with the true spine for each frame.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "spinewatch/capture/recording.hpp"
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/frames/result.hpp"
+#include "spinewatch/phantom/body.hpp"
+#include "spinewatch/phantom/renderer.hpp"
+#include "spinewatch/phantom/scenario.hpp"
+#include "spinewatch/phantom/subject.hpp"
+
+namespace spinewatch::phantom {
+
+inline constexpr int kImageWidth = 320, kImageHeight = 240;
+
+struct PhantomOptions {
+  std::string scenario = "upright";
+  Subject subject;                 // the generic adult unless a file is given
+  std::optional<int> frames;       // person frames; the scenario's default otherwise
+  std::uint32_t seed = 1;
+  double noise_sigma = 2.0;        // grey levels
+  double flicker = 0.03;           // ± relative gain per frame
+  bool shadow = false;
+  int empty_frames = 10;           // empty scene first, for background learning
+  CameraRig rig = CameraRig::default_rig();
+};
+
+struct PhantomFrame {
+  std::uint64_t seq = 0;
+  std::int64_t t_ns = 0;
+  std::array<cv::Mat, 2> luma;    // what each camera delivers (index: View)
+  std::array<cv::Mat, 2> clean;   // the same without noise and flicker
+  std::array<cv::Mat, 2> person;  // the person layer: 0 where the scene shows
+  Posture truth;
+};
+
+class PhantomSequence {
+ public:
+  // Checks the options ("unknown scenario …", out-of-range values).
+  static Result<PhantomSequence> create(PhantomOptions options);
+
+  int frame_count() const { return options_.empty_frames + person_frames_; }
+  int person_frames() const { return person_frames_; }
+  const PhantomOptions& options() const { return options_; }
+  const Scenario& scenario() const { return *scenario_; }
+  const BodyModel& body() const { return body_; }
+  const cv::Mat& background(View view) const { return renderers_[static_cast<int>(view)].background(); }
+  const CameraModel& camera(View view) const {
+    return view == View::Frontal ? options_.rig.frontal : options_.rig.lateral;
+  }
+
+  // Frame `index` (empty frames first); any frame may be rendered alone and
+  // is identical to the same frame of a whole recording.
+  PhantomFrame render(int index) const;
+  Posture ground_truth(int index) const;
+  // The subject as it was rendered (posture, joint factors) for recording.json.
+  nlohmann::json subject_json() const;
+  std::string notes() const;
+
+ private:
+  PhantomSequence(PhantomOptions options, const Scenario& scenario, int person_frames);
+  std::optional<BodyPose> pose_at(int index) const;  // nothing for an empty frame
+
+  PhantomOptions options_;
+  const Scenario* scenario_;
+  int person_frames_;
+  BodyModel body_;
+  std::array<ViewRenderer, 2> renderers_;
+  SensorModel sensor_;
+};
+
+std::int64_t frame_time_ns(std::uint64_t index);  // round(index · 1e9 / 30)
+
+// Writes DIR/frontal.raw, lateral.raw (YUYV), recording.json,
+// calibration.yaml, ground_truth.ndjson and background_{frontal,lateral}.png.
+Status write_recording(const PhantomSequence& sequence, const std::filesystem::path& dir);
+
+}  // namespace spinewatch::phantom

@@ -1,0 +1,50 @@
+#pragma once
+// Images of the phantom: the empty scene and the person as one calibrated
+// camera sees them (noise-free), and the sensor that adds noise and flicker.
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/phantom/body.hpp"
+
+namespace spinewatch::phantom {
+
+class ViewRenderer {
+ public:
+  // `seed` and `view_index` pick the scene's texture.
+  ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index);
+
+  // The noise-free empty scene (CV_8U): a wall with a gradient and fixed
+  // texture, the floor in front of it.
+  const cv::Mat& background() const { return background_; }
+  // The person alone (CV_8U): the shade of the nearest body part where the
+  // body covers a pixel, 0 elsewhere.
+  cv::Mat person_layer(const BodyPose& body) const;
+  // The noise-free scene with the person in it.
+  cv::Mat compose(const cv::Mat& person_layer, bool shadow) const;
+
+ private:
+  CameraModel camera_;
+  cv::Mat background_;     // CV_8U
+  cv::Mat cloth_texture_;  // CV_32F, a few grey levels either way
+};
+
+// Exposure flicker (one gain per frame and view) and Gaussian noise,
+// deterministic for (seed, frame, view).
+class SensorModel {
+ public:
+  SensorModel(std::uint32_t seed, double noise_sigma, double flicker);
+  cv::Mat expose(const cv::Mat& clean, std::uint64_t frame, int view_index) const;
+
+ private:
+  std::uint32_t seed_;
+  double noise_sigma_, flicker_;
+  std::vector<float> gaussian_;  // standard normal samples drawn once
+};
+
+// YUYV bytes (Y from the grey image, U = V = 128), packed rows.
+std::vector<std::uint8_t> to_yuyv(const cv::Mat& grey);
+
+}  // namespace spinewatch::phantom

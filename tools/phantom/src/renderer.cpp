@@ -1,0 +1,188 @@
+#include "spinewatch/phantom/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+namespace spinewatch::phantom {
+namespace {
+
+// fillConvexPoly's fixed-point fraction bits: sub-pixel outlines.
+constexpr int kShift = 4;
+constexpr double kSubpixel = 1 << kShift;
+// The wall stands this far behind the subject (the world origin), seen from
+// either camera; the floor is y = 0.
+constexpr double kWallBehindMm = 1500;
+
+cv::Mat random_field(std::mt19937& rng, cv::Size size) {
+  cv::Mat field(size, CV_32F);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) field.at<float>(y, x) = u(rng);
+  return field;
+}
+
+}  // namespace
+
+ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index)
+    : camera_(camera) {
+  std::seed_seq seq{seed, 1u, std::uint32_t(view_index)};
+  std::mt19937 rng(seq);
+
+  const Eigen::Vector3d centre = camera.centre_in_world();
+  const Eigen::Vector3d axis = camera.R.transpose() * Eigen::Vector3d::UnitZ();
+  const double wall = -centre.dot(axis) + kWallBehindMm;
+  cv::Mat scene(size, CV_32F);
+  for (int v = 0; v < size.height; ++v)
+    for (int u = 0; u < size.width; ++u) {
+      const Eigen::Vector3d d = camera.ray_through({u + 0.5, v + 0.5});
+      const double t_wall = wall / std::max(d.dot(axis), 1e-6);
+      const double t_floor = d.y() < 0 ? -centre.y() / d.y() : INFINITY;
+      float value;
+      if (t_floor < t_wall) {
+        value = float(105 + 25 * std::clamp(t_floor / 5000.0, 0.0, 1.0));  // floor, lighter far away
+      } else {
+        const Eigen::Vector3d hit = centre + t_wall * d;
+        const double across = hit.dot(Eigen::Vector3d::UnitY().cross(axis));
+        value = float(180 + 12 * (hit.y() / 1000.0 - 1.0) + 8 * across / 1000.0);  // wall, lit from above
+      }
+      scene.at<float>(v, u) = value;
+    }
+  // Fixed texture: large blotches plus fine grain.
+  cv::Mat blotches;
+  cv::resize(random_field(rng, {12, 9}), blotches, size, 0, 0, cv::INTER_CUBIC);
+  cv::Mat grain = random_field(rng, size);
+  cv::GaussianBlur(grain, grain, {3, 3}, 0.8);
+  scene += 9 * blotches + 7 * grain;
+  scene.convertTo(background_, CV_8U);
+
+  cloth_texture_ = random_field(rng, size);
+  cv::GaussianBlur(cloth_texture_, cloth_texture_, {5, 5}, 1.0);
+  cloth_texture_ *= 10;
+}
+
+cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
+  cv::Mat layer = cv::Mat::zeros(background_.size(), CV_8U);
+  struct Projected {
+    double depth;
+    std::vector<cv::Point2f> points;
+    std::uint8_t shade;
+  };
+  std::vector<Projected> parts;
+  parts.reserve(body.solids.size());
+  for (const Solid& solid : body.solids) {
+    Projected p{0, {}, solid.shade};
+    bool visible = true;
+    for (const auto& point : solid.points) {
+      auto pixel = camera_.project(point);
+      if (!pixel) {
+        visible = false;  // a part reaching behind the camera is not drawn
+        break;
+      }
+      p.points.emplace_back(float(pixel->x()), float(pixel->y()));
+      p.depth += camera_.to_camera(point).z();
+    }
+    if (!visible || p.points.empty()) continue;
+    p.depth /= double(solid.points.size());
+    parts.push_back(std::move(p));
+  }
+  // Painter's order: farthest first.
+  std::sort(parts.begin(), parts.end(), [](const Projected& a, const Projected& b) { return a.depth > b.depth; });
+
+  std::vector<cv::Point2f> hull;
+  std::vector<cv::Point> fixed;
+  for (const Projected& p : parts) {
+    cv::convexHull(p.points, hull);
+    cv::Point2f mean(0, 0);
+    for (const auto& h : hull) mean += h;
+    mean *= 1.0f / float(hull.size());
+    // The body part, then a lighter core offset toward the light (above):
+    // mild shading so a part is not a flat fill.
+    for (auto [scale, lift, extra] : {std::tuple{1.0f, 0.0f, 0}, std::tuple{0.55f, 0.12f, 12}}) {
+      fixed.clear();
+      for (const auto& h : hull) {
+        const cv::Point2f q = mean + scale * (h - mean) - cv::Point2f(0, lift * std::abs(h.y - mean.y));
+        fixed.emplace_back(cvRound(q.x * kSubpixel), cvRound(q.y * kSubpixel));
+      }
+      cv::fillConvexPoly(layer, fixed, cv::Scalar(std::min(255, p.shade + extra)), cv::LINE_8, kShift);
+    }
+  }
+  return layer;
+}
+
+cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow) const {
+  cv::Mat mask = layer > 0;
+  cv::Mat background;
+  background_.convertTo(background, CV_32F);
+  if (shadow) {
+    // A soft shadow cast down and to the side onto the wall and floor.
+    cv::Mat cast;
+    mask.convertTo(cast, CV_32F, 1.0 / 255);
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 7, 0, 1, 5);
+    cv::warpAffine(cast, cast, shift, cast.size());
+    cv::GaussianBlur(cast, cast, {0, 0}, 6.0);
+    background = background.mul(1.0f - 0.35f * cast);
+  }
+  // Blur the shades within the person only (normalised by the blurred
+  // mask), so the shading is soft but the outline stays where it is.
+  cv::Mat shade, weight;
+  layer.convertTo(shade, CV_32F);
+  mask.convertTo(weight, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(shade, shade, {7, 7}, 1.5);
+  cv::GaussianBlur(weight, weight, {7, 7}, 1.5);
+  cv::Mat person = shade / cv::max(weight, 1e-3) + cloth_texture_;
+  person.copyTo(background, mask);
+  // Real lenses are not perfectly sharp: soften the outline a little.
+  cv::GaussianBlur(background, background, {3, 3}, 0.7);
+  cv::Mat out;
+  background.convertTo(out, CV_8U);
+  return out;
+}
+
+SensorModel::SensorModel(std::uint32_t seed, double noise_sigma, double flicker)
+    : seed_(seed), noise_sigma_(noise_sigma), flicker_(flicker), gaussian_(1 << 16) {
+  std::seed_seq seq{seed, 3u};
+  std::mt19937 rng(seq);
+  std::normal_distribution<float> normal(0.f, 1.f);
+  for (float& g : gaussian_) g = normal(rng);
+}
+
+cv::Mat SensorModel::expose(const cv::Mat& clean, std::uint64_t frame, int view_index) const {
+  // One engine per frame and view: any frame can be rendered on its own and
+  // still match a whole recording's bytes.
+  std::seed_seq seq{seed_, 4u, std::uint32_t(frame), std::uint32_t(frame >> 32), std::uint32_t(view_index)};
+  std::mt19937 rng(seq);
+  const float gain = float(1.0 + std::uniform_real_distribution<double>(-flicker_, flicker_)(rng));
+  // Per-pixel draws come from the table through a xorshift index: an
+  // mt19937 draw per pixel would cost more than the whole render.
+  std::uint32_t state = rng() | 1u;
+  const float sigma = float(noise_sigma_);
+  cv::Mat out(clean.size(), CV_8U);
+  for (int y = 0; y < clean.rows; ++y) {
+    const std::uint8_t* in = clean.ptr<std::uint8_t>(y);
+    std::uint8_t* o = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < clean.cols; ++x) {
+      state ^= state << 13;
+      state ^= state >> 17;
+      state ^= state << 5;
+      const float v = gain * float(in[x]) + sigma * gaussian_[state >> 16];
+      o[x] = cv::saturate_cast<std::uint8_t>(v);
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> to_yuyv(const cv::Mat& grey) {
+  std::vector<std::uint8_t> out(std::size_t(grey.total()) * 2, 128);
+  std::size_t k = 0;
+  for (int y = 0; y < grey.rows; ++y) {
+    const std::uint8_t* row = grey.ptr<std::uint8_t>(y);
+    for (int x = 0; x < grey.cols; ++x, k += 2) out[k] = row[x];
+  }
+  return out;
+}
+
+}  // namespace spinewatch::phantom
