@@ -76,9 +76,10 @@ Result<TargetLine> parse_target(const std::string& text, const std::string& wher
 
 int run_deform(const std::string& subject_path, const std::string& targets_path, const std::string& out_path,
                const std::string& stiffness_path) {
-  auto model = SpineModel::from_subject_file(subject_path);
-  if (!model) {
-    spdlog::error("{}", model.error().message);
+  // Everything is read and checked before the (slower) model is built.
+  auto subject = load_subject_file(subject_path);
+  if (!subject) {
+    spdlog::error("{}", subject.error().message);
     return 1;
   }
   DynamicsOptions options;
@@ -116,6 +117,7 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
     return 1;
   }
 
+  const SpineModel model = SpineModel::from_subject(*subject);
   std::ofstream file;
   if (out_path != "-") {
     file.open(out_path, std::ios::trunc);
@@ -125,8 +127,8 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
     }
   }
   std::ostream& out = out_path == "-" ? std::cout : file;
-  SpineDynamics dynamics(*model, options);
-  ErgonomicsMonitor ergonomics(model->neutral());
+  SpineDynamics dynamics(model, options);
+  ErgonomicsMonitor ergonomics(model.neutral());
   const LoadParams& load_params = default_load_params();
   std::size_t unconverged = 0;
   for (const TargetLine& line : lines) {

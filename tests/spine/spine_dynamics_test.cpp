@@ -13,6 +13,14 @@
 namespace spinewatch {
 namespace {
 
+// 2 mm voxels: the dynamics depend on the masses only through the small
+// inertia and gravity terms, and the tests stay quick under ASan.
+SpineModelOptions coarse() {
+  SpineModelOptions o;
+  o.voxel_mm = 2.0;
+  return o;
+}
+
 TEST(DiscSpring, Eq10PushesApartWhenCompressedAndPullsWhenStretched) {
   DiscSpring s;
   s.rest_length_mm = 8;
@@ -52,7 +60,7 @@ TEST(SpineDynamics, StraightSpineUnderAxialLoadDoesNotBend) {
   // below the chain's buckling load (≈ 4π²·EI/L² ≈ 500 N with the ends
   // clamped; the real ligamentous spine buckles near 100 N), where a
   // straight chain is stable and any bending would come from the model.
-  const SpineModel model = SpineModel::from_subject(straight_subject());
+  const SpineModel model = SpineModel::from_subject(straight_subject(), coarse());
   for (bool gravity : {false, true}) {
     DynamicsOptions o;
     o.gravity = gravity;
@@ -93,7 +101,7 @@ void expect_anatomical(const SpinePose& pose, const SpineSpec& spec, const std::
 // Table 1 protocol: the subject's neutral spine is given; neck, waist and
 // their directions per frame; the model settles to each in turn.
 DeformReport table1(const test::TruthSubject& subject, const std::vector<Posture>& truth, const std::string& name) {
-  const SpineModel model = SpineModel::from_subject(subject.spine);
+  const SpineModel model = SpineModel::from_subject(subject.spine, coarse());
   SpineDynamics dyn(model);
   std::vector<Posture> estimated;
   for (const Posture& t : truth) {
@@ -135,7 +143,7 @@ TEST(SpineDynamics, GroundTruthMovesFarMoreThanTheError) {
   const auto subject = test::make_subject(1600, 1.3);
   const Posture bent = test::truth_posture(subject, 50, 0, 0, 0);
   EXPECT_GT(((*bent.vertebrae)[kNeckIndex].body_center - subject.spine[kNeckIndex].pose.body_center).norm(), 100.0);
-  const SpineModel model = SpineModel::from_subject(subject.spine);
+  const SpineModel model = SpineModel::from_subject(subject.spine, coarse());
   SpineDynamics dyn(model);
   // The neutral model against the bent truth is far off: an error of the
   // deformed model is a real measurement.
@@ -146,7 +154,7 @@ TEST(SpineDynamics, GroundTruthMovesFarMoreThanTheError) {
 
 TEST(SpineDynamics, IncrementalStepsTrackAMovingTarget) {
   const auto subject = test::make_subject(1600, 1.3);
-  const SpineModel model = SpineModel::from_subject(subject.spine);
+  const SpineModel model = SpineModel::from_subject(subject.spine, coarse());
   SpineDynamics dyn(model);
   // A 3 s lateral bend at 30 frames/s, one step() per frame.
   const auto truth = test::lateral_sequence(subject, 90);
@@ -163,7 +171,7 @@ TEST(SpineDynamics, IncrementalStepsTrackAMovingTarget) {
 }
 
 TEST(SpineDynamics, ResetPlacesThePoseAndStepsStayBounded) {
-  const SpineModel model = SpineModel::generic(1750);
+  const SpineModel model = SpineModel::generic(1750, coarse());
   SpineDynamics dyn(model);
   SpinePose p = model.neutral();
   for (auto& v : p) v.body_center += Eigen::Vector3d(0, 0, 40);
@@ -181,7 +189,7 @@ TEST(SpineDynamics, ResetPlacesThePoseAndStepsStayBounded) {
 }
 
 TEST(DeformReport, MeasuresKnownOffsets) {
-  const SpinePose n = SpineModel::generic(1750).neutral();
+  const SpinePose n = SpineModel::generic(1750, coarse()).neutral();
   Posture truth, est;
   truth.vertebrae = n;
   est.vertebrae = n;
@@ -215,7 +223,7 @@ TEST(StiffnessFit, FragmentRoundTripsAndRejectsUnknownJoints) {
 
 TEST(StiffnessFit, ReducesTheErrorOfAMistunedModel) {
   const auto subject = test::make_subject(1600, 1.3);
-  const SpineModel model = SpineModel::from_subject(subject.spine);
+  const SpineModel model = SpineModel::from_subject(subject.spine, coarse());
   const std::vector<std::vector<Posture>> seqs{test::lateral_sequence(subject, 8)};
   DynamicsOptions start;
   start.bending_scale[12] = 4.0;  // a badly tuned L1-L2 joint

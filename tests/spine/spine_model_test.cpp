@@ -78,8 +78,14 @@ TEST(VertebraGeometry, EmbeddedFileParsesAndBadValuesAreNamed) {
   EXPECT_NE(bad.error().message.find("bone.density_kg_per_m3"), std::string::npos) << bad.error().message;
 }
 
+// Built once: voxelising 17 vertebrae at 1 mm is the slow part under ASan.
+const SpineModel& generic_model() {
+  static const SpineModel model = SpineModel::generic(1750);
+  return model;
+}
+
 TEST(SpineModel, VertebraeArePosteriorHeavyParticleBodies) {
-  const SpineModel model = SpineModel::generic(1750);
+  const SpineModel& model = generic_model();
   for (std::size_t i = 0; i < kVertebraCount; ++i) {
     const VertebraBody& b = model.vertebra(i);
     EXPECT_GT(b.mass.mass_kg, 0.004) << b.name;
@@ -98,7 +104,7 @@ TEST(SpineModel, VertebraeArePosteriorHeavyParticleBodies) {
 }
 
 TEST(SpineModel, DiscSpringsAreSymmetricAboutTheDiscCentre) {
-  const SpineModel model = SpineModel::generic(1750);
+  const SpineModel& model = generic_model();
   const SpinePose& n = model.neutral();
   for (std::size_t j = 0; j < kJointCount; ++j) {
     const Disc& d = model.disc(j);
@@ -123,7 +129,9 @@ TEST(Subject, RoundTripsAndBuildsTheSameNeutral) {
   const auto truth = test::make_subject(1900, 0.7);
   test::TempDir dir;
   test::write_file(dir / "subject.json", subject_to_json(truth.spine));
-  auto model = SpineModel::from_subject_file(dir / "subject.json");
+  SpineModelOptions coarse;
+  coarse.voxel_mm = 2.0;
+  auto model = SpineModel::from_subject_file(dir / "subject.json", coarse);
   ASSERT_TRUE(model) << model.error().message;
   for (std::size_t i = 0; i < kVertebraCount; ++i) {
     EXPECT_LT((model->neutral()[i].body_center - truth.spine[i].pose.body_center).norm(), 1e-9);
