@@ -10,6 +10,7 @@
 #include "progress_bar.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/estimator/spine/deform_report.hpp"
 #include "spinewatch/replay/evaluation.hpp"
 #include "spinewatch/replay/posture_file.hpp"
 #include "spinewatch/replay/replay.hpp"
@@ -35,19 +36,33 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
     std::string recording, estimate, truth, config;
     bool json = false;
+    bool deform = false;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("eval", "Errors of the estimate against ground truth");
-  cmd->add_option("--recording", opts->recording, "recording directory with ground_truth.ndjson")->required();
+  cmd->add_option("--recording", opts->recording, "recording directory with ground_truth.ndjson");
   cmd->add_option("--estimate", opts->estimate, "posture stream to evaluate; default: replay the recording now");
   cmd->add_option("--truth", opts->truth, "ground truth instead of DIR/ground_truth.ndjson");
   cmd->add_option("--config", opts->config, "station configuration (estimator settings) for the replay");
   cmd->add_flag("--json", opts->json, "print the summary as one JSON object");
+  cmd->add_flag("--deform", opts->deform,
+                "Table-1 report (per level Δ lateral, vertical, anterior, distance) of `spinewatch deform` output "
+                "given with --estimate");
   cmd->callback([opts, &exit_code] {
     auto fail = [&exit_code](const Error& e) {
       spdlog::error("{}", e.message);
       exit_code.value = 1;
     };
+    if (opts->recording.empty() && opts->truth.empty()) {
+      spdlog::error("eval: give --recording DIR or --truth FILE");
+      exit_code.value = 2;
+      return;
+    }
+    if (opts->deform && opts->estimate.empty()) {
+      spdlog::error("eval --deform: give --estimate FILE, the output of spinewatch deform");
+      exit_code.value = 2;
+      return;
+    }
     const std::string truth_path = opts->truth.empty() ? opts->recording + "/ground_truth.ndjson" : opts->truth;
     auto truth = read_posture_file(truth_path);
     if (!truth) return fail(truth.error());
@@ -73,6 +88,10 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
           },
           [&bar](const ReplayProgress& p) { bar.update(p.pairs_done, p.pairs_expected); });
       if (!stats) return fail(stats.error());
+    }
+    if (opts->deform) {
+      std::cout << format_table(compare_deformation(estimate, *truth));
+      return;
     }
     const Evaluation e = evaluate(estimate, *truth);
     if (opts->json)
