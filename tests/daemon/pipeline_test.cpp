@@ -159,6 +159,11 @@ TEST(PipelineMemory, RssStaysFlatOverTenThousandPairs) {
   RecordProperty("rss_kb_at_10000", static_cast<int>(rss_at_10000));
   std::printf("VmRSS after 1000 pairs: %ld kB, after 10000 pairs: %ld kB\n", rss_at_1000, rss_at_10000);
   ASSERT_GT(rss_at_1000, 0);
+#if defined(__SANITIZE_ADDRESS__)
+  // ASan's quarantine keeps freed blocks (256 MB by default), so RSS says
+  // nothing here; this run still checks the path for memory errors and leaks.
+  GTEST_SKIP() << "RSS bound not checked under AddressSanitizer (quarantine holds freed memory)";
+#endif
   // Each pair holds 150 kB of pixels; a leak of one pair in ten would show as >130 MB.
   EXPECT_LT(rss_at_10000 - rss_at_1000, 8 * 1024) << "memory grew by " << (rss_at_10000 - rss_at_1000) << " kB";
 }

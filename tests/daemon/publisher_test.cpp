@@ -73,7 +73,10 @@ TEST_F(PublisherTest, NewHelloForLaterClients) {
 }
 
 TEST_F(PublisherTest, TwoReadersGetEveryLineInOrder) {
-  auto pub = start(both());
+  auto options = both();
+  options.client_queue = 100000;  // this test is about order, not drops: readers may be descheduled
+  options.inbox = 100000;
+  auto pub = start(options);
   ASSERT_TRUE(pub);
   auto a = LineClient::tcp(pub->tcp_port());
   auto b = LineClient::unix_socket(dir.path() / "p.sock");

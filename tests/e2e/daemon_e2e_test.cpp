@@ -275,6 +275,11 @@ TEST_F(DaemonE2E, MemoryStaysFlatOverTenThousandPairs) {
   RecordProperty("rss_kb_at_1000", static_cast<int>(rss_1000));
   RecordProperty("rss_kb_at_10000", static_cast<int>(rss_10000));
   ASSERT_GT(rss_1000, 0);
+#if defined(__SANITIZE_ADDRESS__)
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  GTEST_SKIP() << "RSS bound not checked under AddressSanitizer (quarantine holds freed memory)";
+#endif
   // One pair is 300 kB of pixels: keeping even 1 % of them would add ~30 MB.
   EXPECT_LT(rss_10000 - rss_1000, 16 * 1024) << daemon.log();
   daemon.signal(SIGTERM);

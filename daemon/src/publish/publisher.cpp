@@ -33,7 +33,6 @@ struct Publisher::Impl {
   PublisherOptions options;
   std::optional<tcp::acceptor> tcp_acceptor;
   std::optional<unix_socket::acceptor> unix_acceptor;
-  std::optional<asio::steady_timer> retry_timer;
   std::uint16_t tcp_port = 0;
   std::map<detail::ClientSession*, std::shared_ptr<detail::ClientSession>> clients;  // I/O thread only
   Line hello;                                                                          // I/O thread only
@@ -60,9 +59,9 @@ struct Publisher::Impl {
       if (ec) {
         // E.g. out of file descriptors: say so, back off briefly, keep serving the others.
         spdlog::error("publisher: accepting a {} client failed: {}", kind, ec.message());
-        retry_timer->expires_after(std::chrono::milliseconds(100));
-        retry_timer->async_wait([this, &acceptor, kind](const boost::system::error_code& e) {
-          if (!e) accept_next(acceptor, kind);
+        auto timer = std::make_shared<asio::steady_timer>(io, std::chrono::milliseconds(100));
+        timer->async_wait([this, &acceptor, kind, timer](const boost::system::error_code&) {
+          if (acceptor.is_open()) accept_next(acceptor, kind);
         });
         return;
       }
@@ -137,7 +136,6 @@ struct Publisher::Impl {
     boost::system::error_code ignored;
     if (tcp_acceptor) tcp_acceptor->close(ignored);
     if (unix_acceptor) unix_acceptor->close(ignored);
-    if (retry_timer) retry_timer->cancel();
   }
 
   template <class Fn>
@@ -223,7 +221,6 @@ Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& opti
   if (impl.options.client_queue == 0) impl.options.client_queue = 1;
   hello_line.push_back('\n');
   impl.hello = std::make_shared<const std::string>(std::move(hello_line));
-  impl.retry_timer.emplace(impl.io);
   if (options.tcp)
     if (auto bound = bind_tcp(impl.io, *options.tcp, impl.tcp_acceptor, impl.tcp_port); !bound) return bound.error();
   if (options.unix_socket)
