@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "../common/toml_fields.hpp"
+
 namespace spinewatch {
 namespace {
 
@@ -12,27 +14,13 @@ std::string at(std::string_view source, const toml::node& n) {
   return fmt::format("{}:{}", source, n.source().begin.line);
 }
 
-// Reads a positive number `key` of `table`; "FILE:LINE: context.key: problem" on failure.
-Result<double> number(const toml::table& table, std::string_view key, std::string_view source,
-                      const std::string& context, double min, double max) {
-  const toml::node* n = table.get(key);
-  if (!n) return Error{fmt::format("{}: {}.{}: missing", at(source, table), context, key)};
-  if (!n->is_number()) return Error{fmt::format("{}: {}.{}: expected a number", at(source, *n), context, key)};
-  const double v = *n->value<double>();
-  if (!(v >= min && v <= max))
-    return Error{fmt::format("{}: {}.{}: {} is out of range [{}, {}]", at(source, *n), context, key, v, min, max)};
-  return v;
-}
 
 }  // namespace
 
 Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    return Error{fmt::format("{}:{}: {}", source, e.source().begin.line, e.description())};
-  }
+  auto parsed = detail::parse_toml(text, source);
+  if (!parsed) return parsed.error();
+  const toml::table& root = *parsed;
   SpineSpec spec;
   const toml::table* spine = root["spine"].as_table();
   if (!spine) return Error{fmt::format("{}: [spine]: missing", source)};
@@ -41,7 +29,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
                          Field{"l5_height_fraction", &spec.l5_height_fraction, 0.3, 0.8},
                          Field{"kyphosis_deg", &spec.kyphosis_deg, 0, 90},
                          Field{"lordosis_deg", &spec.lordosis_deg, 0, 90}}) {
-    auto v = number(*spine, f.key, source, "spine", f.min, f.max);
+    auto v = detail::toml_number(*spine, f.key, source, "spine", f.min, f.max);
     if (!v) return v.error();
     *f.out = *v;
   }
@@ -60,7 +48,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
     out.name = *name;
     for (auto [key, field, min] : {std::tuple{"height_mm", &out.height_mm, 1.0}, std::tuple{"width_mm", &out.width_mm, 1.0},
                                    std::tuple{"depth_mm", &out.depth_mm, 1.0}, std::tuple{"spacing_mm", &out.spacing_mm, 0.0}}) {
-      auto value = number(*v, key, source, ctx, min, 200);
+      auto value = detail::toml_number(*v, key, source, ctx, min, 200);
       if (!value) return value.error();
       *field = *value;
     }
@@ -83,7 +71,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
     out.name = *name;
     for (auto [key, field, max] : {std::tuple{"flexion_deg", &out.flexion_deg, 60.0}, std::tuple{"lateral_deg", &out.lateral_deg, 45.0},
                                    std::tuple{"axial_deg", &out.axial_deg, 45.0}, std::tuple{"k_axial_n_per_mm", &out.k_axial_n_per_mm, 1e5}}) {
-      auto value = number(*j, key, source, ctx, 0.01, max);
+      auto value = detail::toml_number(*j, key, source, ctx, 0.01, max);
       if (!value) return value.error();
       *field = *value;
     }

@@ -2,6 +2,8 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "../common/toml_fields.hpp"
+
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 
 namespace spinewatch {
@@ -13,29 +15,16 @@ std::string at(std::string_view source, const toml::node& n) {
   return fmt::format("{}:{}", source, n.source().begin.line);
 }
 
-Result<double> number(const toml::table& table, std::string_view key, std::string_view source,
-                      const std::string& context, double min, double max) {
-  const toml::node* n = table.get(key);
-  if (!n) return Error{fmt::format("{}: {}.{}: missing", at(source, table), context, key)};
-  if (!n->is_number()) return Error{fmt::format("{}: {}.{}: expected a number", at(source, *n), context, key)};
-  const double v = *n->value<double>();
-  if (!(v >= min && v <= max))
-    return Error{fmt::format("{}: {}.{}: {} is out of range [{}, {}]", at(source, *n), context, key, v, min, max)};
-  return v;
-}
 
 }  // namespace
 
 Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    return Error{fmt::format("{}:{}: {}", source, e.source().begin.line, e.description())};
-  }
+  auto parsed = detail::parse_toml(text, source);
+  if (!parsed) return parsed.error();
+  const toml::table& root = *parsed;
   CvsmSpec spec;
   if (const toml::table* model = root["model"].as_table()) {
-    auto cp = number(*model, "control_points", source, "model", kControlPoints, kControlPoints);
+    auto cp = detail::toml_number(*model, "control_points", source, "model", kControlPoints, kControlPoints);
     if (!cp) return cp.error();
   }
   const toml::array* trunk = root["trunk"].as_array();
@@ -52,7 +41,7 @@ Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source)
     for (auto [key, field, min, max] : {std::tuple{"half_width", &out.half_width, 0.01, 0.3},
                                         std::tuple{"depth", &out.depth, 0.01, 0.3},
                                         std::tuple{"spine_fraction", &out.spine_fraction, 0.05, 0.95}}) {
-      auto v = number(*t, key, source, ctx, min, max);
+      auto v = detail::toml_number(*t, key, source, ctx, min, max);
       if (!v) return v.error();
       *field = *v;
     }
@@ -77,7 +66,7 @@ Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source)
     for (auto [key, field, min, max] : {std::tuple{"y", &out.y, 0.0, 1.1}, std::tuple{"x", &out.x, -0.3, 0.3},
                                         std::tuple{"z", &out.z, -0.3, 0.3}, std::tuple{"half_width", &out.half_width, 0.001, 0.3},
                                         std::tuple{"front", &out.front, 0.001, 0.3}, std::tuple{"back", &out.back, 0.001, 0.3}}) {
-      auto v = number(*p, key, source, ctx, min, max);
+      auto v = detail::toml_number(*p, key, source, ctx, min, max);
       if (!v) return v.error();
       *field = *v;
     }
@@ -87,7 +76,7 @@ Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source)
   if (!hip) return Error{fmt::format("{}: [hip]: missing", source)};
   for (auto [key, field, min, max] : {std::tuple{"y", &spec.hip_y, 0.3, 0.7}, std::tuple{"x", &spec.hip_x, -0.2, 0.2},
                                       std::tuple{"z", &spec.hip_z, 0.0, 0.2}, std::tuple{"thigh", &spec.thigh, 0.1, 0.4}}) {
-    auto v = number(*hip, key, source, "hip", min, max);
+    auto v = detail::toml_number(*hip, key, source, "hip", min, max);
     if (!v) return v.error();
     *field = *v;
   }

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "toml_number.hpp"
+#include "../common/toml_fields.hpp"
 
 namespace spinewatch {
 namespace {
