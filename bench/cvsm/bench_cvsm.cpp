@@ -10,6 +10,7 @@
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch {
 namespace {
@@ -52,42 +53,49 @@ cv::Mat frame(const cv::Mat& bg, const cv::Mat& person, std::mt19937& rng, doubl
 
 LumaView view(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; }
 
+// Phantom frames: the petite subject (unlike the generic model) bending
+// 0 → 50° → 0; background learnt from the empty frames, the subject model
+// from the first person frames, then the tracked bend played back and forth
+// (ping-pong, so the loop never jumps).
 void BM_PairSilhouettesAndFit(benchmark::State& state) {
-  const CameraRig rig = CameraRig::default_rig();
-  const BodyModel body = subject();
-  const cv::Mat bg = background();
-  std::mt19937 rng(1);
-  // A 0 → 50° → 0 bend over 60 frames, played back and forth.
-  std::vector<std::pair<cv::Mat, cv::Mat>> frames;
-  std::vector<Eigen::Vector3d> pts;
-  for (int i = 0; i < 60; ++i) {
-    const double s = 0.5 - 0.5 * std::cos(2 * M_PI * i / 60.0);
-    control_points(body, pose_vertebrae(body, generic_spine_spec(), bend(s)), pts);
-    cv::Mat f(kH, kW, CV_8U), l(kH, kW, CV_8U);
-    test::render_reference(rig.frontal, body, pts, f);
-    test::render_reference(rig.lateral, body, pts, l);
-    const double gain = 1.0 + 0.03 * std::sin(i * 1.7);
-    frames.emplace_back(frame(bg, f, rng, gain), frame(bg, l, rng, gain));
+  phantom::PhantomOptions po;
+  po.scenario = "flexion";
+  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
+  if (!subject.ok()) {
+    state.SkipWithError(subject.error().message.c_str());
+    return;
   }
-  SilhouetteOptions so;
-  so.background = BackgroundMode::Image;
-  SilhouetteExtractor ef(so), el(so);
-  (void)ef.set_background(view(bg));
-  (void)el.set_background(view(bg));
-  CvsmTracker tracker(rig, CvsmOptions{});
-  const auto& first = frames.front();
-  for (int i = 0; i < 12; ++i) tracker.track(ef.extract(view(first.first)), el.extract(view(first.second)));
-  std::size_t i = 0;
-  int lost = 0;
+  po.subject = *subject;
+  po.frames = 90;
+  auto seq = phantom::PhantomSequence::create(po);
+  if (!seq.ok()) {
+    state.SkipWithError(seq.error().message.c_str());
+    return;
+  }
+  std::vector<phantom::PhantomFrame> frames;
+  for (int i = 0; i < seq->frame_count(); ++i) frames.push_back(seq->render(i));
+  SilhouetteExtractor ef{SilhouetteOptions{}}, el{SilhouetteOptions{}};
+  CvsmTracker tracker(po.rig, CvsmOptions{});
+  const int first_tracked = po.empty_frames + CvsmOptions{}.subject_frames;
+  for (int i = 0; i < first_tracked; ++i)
+    tracker.track(ef.extract(view(frames[static_cast<std::size_t>(i)].luma[0])),
+                  el.extract(view(frames[static_cast<std::size_t>(i)].luma[1])));
+  const int n = seq->frame_count() - first_tracked;
+  int k = 0, lost = 0;
+  std::int64_t candidates = 0, pairs = 0;
   for (auto _ : state) {
-    const auto& [f, l] = frames[i++ % frames.size()];
-    const SilhouetteResult sf = ef.extract(view(f));
-    const SilhouetteResult sl = el.extract(view(l));
+    const int phase = k++ % (2 * n - 2);
+    const auto& f = frames[static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase))];
+    const SilhouetteResult sf = ef.extract(view(f.luma[0]));
+    const SilhouetteResult sl = el.extract(view(f.luma[1]));
     const CvsmResult r = tracker.track(sf, sl);
     lost += r.state == TrackingState::Lost;
+    candidates += r.fit.candidates.value_or(0);
+    ++pairs;
     benchmark::DoNotOptimize(r.waist);
   }
   state.counters["lost"] = lost;
+  state.counters["candidates"] = pairs > 0 ? static_cast<double>(candidates) / static_cast<double>(pairs) : 0.0;
 }
 BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", [](const std::vector<double>& v) {
   std::vector<double> s = v;

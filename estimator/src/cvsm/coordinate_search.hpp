@@ -15,13 +15,19 @@ struct Descent {
   int evaluations = 0;
 };
 
+// With `refine_moved_only`, finer levels revisit only the parameters that
+// moved at a coarser one (the tracker's frame-to-frame search: a parameter
+// that did not gain at the coarse step is already within it of its best).
 template <std::size_t N, class Cost>
 Descent<N, Cost> coordinate_descent(std::array<double, N> params, std::int64_t best, std::array<double, N> step,
-                                    int levels, int budget, Cost&& cost) {
+                                    int levels, int budget, Cost&& cost, bool refine_moved_only = false) {
   Descent<N, Cost> d{params, best, 0};
+  std::array<bool, N> moved{};
   for (int level = 0; level < levels && d.evaluations < budget; ++level) {
     for (std::size_t i = 0; i < N && d.evaluations < budget; ++i) {
       if (step[i] == 0) continue;
+      if (refine_moved_only && level > 0 && !moved[i]) continue;
+      const auto before = d.params[i];
       for (double dir : {1.0, -1.0}) {
         bool improved = false;
         for (int k = 0; k < 4 && d.evaluations < budget; ++k) {
@@ -36,6 +42,7 @@ Descent<N, Cost> coordinate_descent(std::array<double, N> params, std::int64_t b
         }
         if (improved) break;  // no point trying the other direction
       }
+      if (d.params[i] != before) moved[i] = true;
     }
     for (auto& s : step) s *= 0.5;
   }

@@ -58,13 +58,19 @@ constexpr double kCrown = 0.995;  // top of the model's head as a fraction of he
 // H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown
 using ShapeParams = std::array<double, 12>;
 
+// Breadths are searched in mm at the reference height (scale × H), so a
+// change of height alone keeps every breadth and only stretches lengths:
+// height and breadths are then independent directions for the descent.
+constexpr double kReferenceHeight = 1750;
+
 void apply_params(SubjectEstimate& s, const ShapeParams& p) {
   s.crown_y = p[11];
   s.shape.height_mm = p[0];
-  s.shape.width_scale = p[1];
-  s.shape.depth_scale = p[2];
-  s.shape.shoulder_scale = p[3];
-  s.shape.limb_scale = p[4];
+  const double per_height = kReferenceHeight / p[0];
+  s.shape.width_scale = p[1] * per_height;
+  s.shape.depth_scale = p[2] * per_height;
+  s.shape.shoulder_scale = p[3] * per_height;
+  s.shape.limb_scale = p[4] * per_height;
   s.pose.translation = {p[5], p[6], p[7]};
   s.pose.flexion = p[8];
   s.pose.lateral = p[9];
@@ -72,7 +78,9 @@ void apply_params(SubjectEstimate& s, const ShapeParams& p) {
 }
 
 ShapeParams params_of(const SubjectEstimate& s) {
-  return {s.shape.height_mm, s.shape.width_scale, s.shape.depth_scale, s.shape.shoulder_scale, s.shape.limb_scale,
+  const double per_height = s.shape.height_mm / kReferenceHeight;
+  return {s.shape.height_mm, s.shape.width_scale * per_height, s.shape.depth_scale * per_height,
+          s.shape.shoulder_scale * per_height, s.shape.limb_scale * per_height,
           s.pose.translation.x(), s.pose.translation.y(), s.pose.translation.z(), s.pose.flexion, s.pose.lateral,
           s.pose.pelvis_flexion, s.crown_y};
 }
@@ -125,6 +133,12 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
     s.base_l5.y() = top_y - (kCrown - spine.l5_height_fraction) * s.shape.height_mm;
   s.crown_y = tops.empty() ? kCrown * s.shape.height_mm : top_y;
+  if (tops.empty()) {
+    // The head is cut off by the top of the image: the crown is above its
+    // edge (by about a third of a head, a guess the fit refines).
+    const double edge = on_plane(rig.frontal, {uf, -0.5}, Eigen::Vector3d::UnitX(), spine_x).y();
+    s.crown_y = std::max(s.crown_y, edge + 0.04 * s.shape.height_mm);
+  }
   return s;
 }
 

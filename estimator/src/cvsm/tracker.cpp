@@ -69,7 +69,7 @@ struct CvsmTracker::Impl {
     int evaluations = 1;
     if (have_previous) {
       PoseParams predicted = best, prev = to_params(previous);
-      for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += 0.8 * (best[i] - prev[i]);
+      for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += best[i] - prev[i];
       const std::int64_t c = cost_of(predicted, best_cost);
       ++evaluations;
       if (c < best_cost) {
@@ -77,9 +77,11 @@ struct CvsmTracker::Impl {
         best = predicted;
       }
     }
-    const PoseParams step{4, 3, 4, 3, 2, 10, 6, 10};
-    auto d = coordinate_descent(best, best_cost, step, 3, budget - evaluations,
-                                [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
+    // From the prediction the residual motion is small: a 2° / 5 mm step,
+    // then a half step only for what moved.
+    const PoseParams step{2, 2, 2, 2, 1, 5, 3, 5};
+    auto d = coordinate_descent(best, best_cost, step, 2, budget - evaluations,
+                                [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
     pose = to_pose(d.params);
     return evaluations + d.evaluations;
   }
@@ -114,6 +116,7 @@ struct CvsmTracker::Impl {
 
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
     CvsmResult r;
+    cost->set_row_step(1);  // the reported figures are whole-image pixel counts
     const XorCounts c = evaluate(model, pose, INT64_MAX);
     r.pose = pose;
     r.vertebrae = pose_vertebrae(model, spine, pose);
@@ -180,6 +183,9 @@ struct CvsmTracker::Impl {
 
     const CvsmPose before = pose;
     int candidates = 0;
+    // Candidates are compared on every other row: half the scan conversion
+    // and counting, and a person is well over a hundred rows tall.
+    cost->set_row_step(opt.search_row_step);
     if (lost) {
       candidates = global_search(opt.global_budget);
       have_previous = false;

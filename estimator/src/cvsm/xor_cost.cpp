@@ -60,10 +60,29 @@ XorCost::XorCost(const CameraRig& rig, int width, int height)
 void XorCost::set_silhouettes(const BitMask& frontal, const BitMask& lateral) {
   silhouettes_ = {&frontal, &lateral};
   for (int v = 0; v < 2; ++v) {
+    auto& counts = row_count_[static_cast<std::size_t>(v)];
+    counts.resize(static_cast<std::size_t>(height_));
+    for (int y = 0; y < height_; ++y) counts[static_cast<std::size_t>(y)] = silhouettes_[static_cast<std::size_t>(v)]->count_row(y);
+  }
+  update_prefix();
+}
+
+void XorCost::set_row_step(int step) {
+  step = std::max(1, step);
+  if (step == row_step_) return;
+  row_step_ = step;
+  // Spans were scanned for the old sample of rows.
+  for (auto& cache : cache_) std::fill(cache.segment_planes.begin(), cache.segment_planes.end(), std::array<std::uint32_t, 4>{UINT32_MAX, UINT32_MAX, 0, 0});
+  update_prefix();
+}
+
+void XorCost::update_prefix() {
+  for (int v = 0; v < 2; ++v) {
+    const auto& counts = row_count_[static_cast<std::size_t>(v)];
     auto& prefix = row_prefix_[static_cast<std::size_t>(v)];
     prefix.assign(static_cast<std::size_t>(height_) + 1, 0);
-    for (int y = 0; y < height_; ++y)
-      prefix[static_cast<std::size_t>(y) + 1] = prefix[static_cast<std::size_t>(y)] + silhouettes_[static_cast<std::size_t>(v)]->count_row(y);
+    for (std::size_t y = 0; y < counts.size(); ++y)
+      prefix[y + 1] = prefix[y] + (static_cast<int>(y) % row_step_ == 0 ? counts[y] : 0);
   }
 }
 
@@ -105,18 +124,19 @@ void XorCost::scan_segment(ViewCache& cache, int segment, const PixelQ8* a, cons
   cache.segment_r0[seg] = r0;
   cache.segment_rows[seg] = std::max(0, r1 - r0 + 1);
   if (r0 > r1) return;
-  std::int16_t* x0 = cache.x0.data() + seg * static_cast<std::size_t>(height_) - r0;
-  std::int16_t* x1 = cache.x1.data() + seg * static_cast<std::size_t>(height_) - r0;
+  std::int16_t* x0 = cache.x0.data() + seg * static_cast<std::size_t>(height_);  // index: row − r0
+  std::int16_t* x1 = cache.x1.data() + seg * static_cast<std::size_t>(height_);
   for (int r = r0; r <= r1; ++r) {
-    x0[r] = INT16_MAX;
-    x1[r] = INT16_MIN;
+    x0[r - r0] = INT16_MAX;
+    x1[r - r0] = INT16_MIN;
   }
+  const int step = row_step_;
   auto widen = [&](int r, std::int64_t lo, std::int64_t hi) {
     if (lo > hi) return;  // passes between two pixel centres
     lo = std::clamp<std::int64_t>(lo, -1, width_);
     hi = std::clamp<std::int64_t>(hi, -1, width_);
-    if (lo < x0[r]) x0[r] = static_cast<std::int16_t>(lo);
-    if (hi > x1[r]) x1[r] = static_cast<std::int16_t>(hi);
+    if (lo < x0[r - r0]) x0[r - r0] = static_cast<std::int16_t>(lo);
+    if (hi > x1[r - r0]) x1[r - r0] = static_cast<std::int16_t>(hi);
   };
   PixelQ8 chain[kN];
   for (int side = 0; side < 2; ++side) {
@@ -132,23 +152,25 @@ void XorCost::scan_segment(ViewCache& cache, int segment, const PixelQ8* a, cons
     }
     for (int e = 0; e + 1 < k; ++e) {
       const PixelQ8 p = chain[e], q = chain[e + 1];
-      const int ra = std::max(r0, round_q8(p.v)), rb = std::min(r1, round_q8(q.v));
+      int ra = std::max(r0, round_q8(p.v));
+      const int rb = std::min(r1, round_q8(q.v));
       if (q.v == p.v) {
-        if (ra >= r0 && ra <= r1) widen(ra, round_q8(std::min(p.u, q.u)), round_q8(std::max(p.u, q.u)));
+        if (ra >= r0 && ra <= r1 && ra % step == 0) widen(ra, round_q8(std::min(p.u, q.u)), round_q8(std::max(p.u, q.u)));
         continue;
       }
+      ra += (step - ra % step) % step;  // the first sampled row
       const std::int64_t du = q.u - p.u, dv = q.v - p.v;
       // One floating division per edge (an integer one costs several times
       // more); u stays exact to well under 1/256 px over an image.
       const double slope = static_cast<double>(du) / static_cast<double>(dv);
       auto u_at = [&](std::int64_t v) { return p.u + static_cast<std::int64_t>(static_cast<double>(v - p.v) * slope); };
       if (std::abs(du) <= dv) {
-        for (int r = ra; r <= rb; ++r) {
+        for (int r = ra; r <= rb; r += step) {
           const int x = round_q8(u_at(std::clamp<std::int64_t>(std::int64_t{r} * 256, p.v, q.v)));
           widen(r, x, x);
         }
       } else {
-        for (int r = ra; r <= rb; ++r) {
+        for (int r = ra; r <= rb; r += step) {
           const std::int64_t va = std::max<std::int64_t>(p.v, std::int64_t{r} * 256 - 128);
           const std::int64_t vb = std::min<std::int64_t>(q.v, std::int64_t{r} * 256 + 128);
           const std::int64_t ua = u_at(va), ub = u_at(vb);
@@ -244,7 +266,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
       const int r0 = cache.segment_r0[s], n = cache.segment_rows[s];
       const std::int16_t* x0 = cache.x0.data() + s * static_cast<std::size_t>(height_);
       const std::int16_t* x1 = cache.x1.data() + s * static_cast<std::size_t>(height_);
-      for (int r = 0; r < n; ++r) {
+      for (int r = (row_step_ - r0 % row_step_) % row_step_; r < n; r += row_step_) {
         const int lo = std::max<int>(0, x0[r]), hi = std::min<int>(width_ - 1, x1[r]);
         if (lo > hi) continue;
         set_bits(rows_.data() + static_cast<std::ptrdiff_t>(r + r0) * words_, lo, hi);
@@ -272,7 +294,7 @@ XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vec
     // Silhouette pixels on rows the model does not reach.
     std::int64_t x = y_lo_ <= y_hi_ ? prefix.back() - (prefix[static_cast<std::size_t>(y_hi_) + 1] - prefix[static_cast<std::size_t>(y_lo_)])
                                     : prefix.back();
-    for (int y = y_lo_; y <= y_hi_; ++y) {
+    for (int y = y_lo_ + (row_step_ - y_lo_ % row_step_) % row_step_; y <= y_hi_; y += row_step_) {
       const std::uint64_t* m = rows_.data() + static_cast<std::ptrdiff_t>(y) * words_;
       const std::uint64_t* s = sil.row(y);
       for (int w = 0; w < words_; ++w) x += std::popcount(m[w] ^ s[w]);

@@ -25,8 +25,9 @@ struct CvsmOptions {
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
-  int local_budget = 48;         // cost evaluations per tracked frame
+  int local_budget = 14;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation
+  int search_row_step = 2;       // tracked frames compare candidates on every n-th row
 };
 
 struct CvsmResult {

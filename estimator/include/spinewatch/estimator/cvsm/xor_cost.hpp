@@ -45,6 +45,12 @@ class XorCost {
   XorCost(const CameraRig& rig, int width, int height);
 
   void set_silhouettes(const BitMask& frontal, const BitMask& lateral);
+  // Count only every `step`-th row (1: all). A coarse search compares
+  // candidates on a row sample at a fraction of the cost; counts are then
+  // in sampled pixels (silhouette_px too, so cost() stays a ratio), and
+  // render() leaves the rows in between empty.
+  void set_row_step(int step);
+  int row_step() const { return row_step_; }
   // Counts for the model with these world control points; stops early once
   // the total exceeds `limit`.
   XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
@@ -75,7 +81,10 @@ class XorCost {
   std::array<std::array<double, 12>, 2> p_{};  // K·[R|t] per view (distortion-free path)
   int width_, height_, words_;
   std::array<const BitMask*, 2> silhouettes_{};
-  std::array<std::vector<std::int64_t>, 2> row_prefix_;  // silhouette pixels in rows < y
+  void update_prefix();
+  int row_step_ = 1;
+  std::array<std::vector<std::int64_t>, 2> row_count_;   // silhouette pixels per row
+  std::array<std::vector<std::int64_t>, 2> row_prefix_;  // sampled silhouette pixels in rows < y
   std::array<std::vector<PixelQ8>, 2> projected_;
   std::array<ViewCache, 2> cache_;
   std::vector<std::uint64_t> rows_;  // model rows, height × words
