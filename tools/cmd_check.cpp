@@ -27,20 +27,12 @@ void add_check_command(CLI::App& app, ExitCode& exit_code) {
     }
     if (!opts->config.empty()) {
       auto config = load_config(opts->config);
-      if (!config) {
-        spdlog::error("{}", config.error().message);
-        exit_code.value = 1;
-        return;
-      }
+      if (!config) return exit_code.fail(config.error());
       spdlog::info("{}: valid", opts->config);
     }
     if (!opts->calibration.empty()) {
       auto rig = load_calibration(opts->calibration);
-      if (!rig) {
-        spdlog::error("{}", rig.error().message);
-        exit_code.value = 1;
-        return;
-      }
+      if (!rig) return exit_code.fail(rig.error());
       spdlog::info("{}: valid", opts->calibration);
     }
   });

@@ -49,10 +49,7 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
                 "Table-1 report (per level Δ lateral, vertical, anterior, distance) of `spinewatch deform` output "
                 "given with --estimate");
   cmd->callback([opts, &exit_code] {
-    auto fail = [&exit_code](const Error& e) {
-      spdlog::error("{}", e.message);
-      exit_code.value = 1;
-    };
+    auto fail = [&exit_code](const Error& e) { exit_code.fail(e); };
     if (opts->recording.empty() && opts->truth.empty()) {
       spdlog::error("eval: give --recording DIR or --truth FILE");
       exit_code.value = 2;

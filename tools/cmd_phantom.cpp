@@ -59,20 +59,12 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     if (opts->frames > 0) p.frames = opts->frames;
     if (!opts->subject.empty()) {
       auto subject = phantom::load_subject(opts->subject);
-      if (!subject) {
-        spdlog::error("{}", subject.error().message);
-        exit_code.value = 1;
-        return;
-      }
+      if (!subject) return exit_code.fail(subject.error());
       p.subject = std::move(subject).value();
     }
     if (!opts->calibration.empty()) {
       auto rig = load_calibration(opts->calibration);
-      if (!rig) {
-        spdlog::error("{}", rig.error().message);
-        exit_code.value = 1;
-        return;
-      }
+      if (!rig) return exit_code.fail(rig.error());
       p.rig = std::move(rig).value();
     }
     auto sequence = phantom::PhantomSequence::create(p);
@@ -82,11 +74,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       return;
     }
     const auto start = std::chrono::steady_clock::now();
-    if (auto s = phantom::write_recording(*sequence, opts->out); !s) {
-      spdlog::error("{}", s.error().message);
-      exit_code.value = 1;
-      return;
-    }
+    if (auto s = phantom::write_recording(*sequence, opts->out); !s) return exit_code.fail(s.error());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("phantom: {} frames of '{}' ({} empty) written to {} in {:.2f} s", sequence->frame_count(),
                  sequence->scenario().name, p.empty_frames, opts->out, seconds);

@@ -28,20 +28,12 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
     ReplayOptions options;
     if (!opts->config.empty()) {
       auto config = load_config(opts->config);
-      if (!config) {
-        spdlog::error("{}", config.error().message);
-        exit_code.value = 1;
-        return;
-      }
+      if (!config) return exit_code.fail(config.error());
       options.estimator = estimator_options(*config);
     }
     options.calibration = opts->calibration;
     auto out = OutputFile::open(opts->out);
-    if (!out) {
-      spdlog::error("{}", out.error().message);
-      exit_code.value = 1;
-      return;
-    }
+    if (!out) return exit_code.fail(out.error());
     ProgressBar bar("replay");
     auto stats = replay_recording(
         opts->recording, options,
@@ -50,16 +42,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
           return Ok{};
         },
         [&bar](const ReplayProgress& p) { bar.update(p.pairs_done, p.pairs_expected); });
-    if (!stats) {
-      spdlog::error("{}", stats.error().message);
-      exit_code.value = 1;
-      return;
-    }
-    if (auto s = (*out)->commit(); !s) {
-      spdlog::error("{}", s.error().message);
-      exit_code.value = 1;
-      return;
-    }
+    if (!stats) return exit_code.fail(stats.error());
+    if (auto s = (*out)->commit(); !s) return exit_code.fail(s.error());
     spdlog::debug("replay: {} pairs, {} lost; {}", stats->pairs, stats->lost, stats->pairing.summary());
   });
 }

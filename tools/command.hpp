@@ -3,10 +3,16 @@
 // itself to the app; its callback stores the exit code here.
 #include <CLI/CLI.hpp>
 
+#include "spinewatch/frames/result.hpp"
+
 namespace spinewatch::cli {
 
 struct ExitCode {
   int value = 0;
+
+  // Logs the error once and sets the exit code (1: bad input or a failed
+  // operation; 2 is for usage errors, interfaces.md §4).
+  void fail(const Error& error, int code = 1);
 };
 
 void add_check_command(CLI::App& app, ExitCode& exit_code);

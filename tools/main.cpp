@@ -2,10 +2,18 @@
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
 
 #include "command.hpp"
 #include "spinewatch/daemon/logging.hpp"
 #include "spinewatch/version.hpp"
+
+namespace spinewatch::cli {
+void ExitCode::fail(const Error& error, int code) {
+  spdlog::error("{}", error.message);
+  value = code;
+}
+}  // namespace spinewatch::cli
 
 int main(int argc, char** argv) {
   using namespace spinewatch;

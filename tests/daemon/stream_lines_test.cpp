@@ -10,20 +10,7 @@
 namespace spinewatch {
 namespace {
 
-Posture tracking_posture() {
-  Posture p;
-  p.seq = 41;
-  p.t_ns = 123456789;
-  p.state = TrackingState::Tracking;
-  p.neck = Eigen::Vector3d(0, 1400, 0);
-  p.waist = Eigen::Vector3d(0, 1000, 0);
-  SpinePose pose;
-  for (std::size_t i = 0; i < pose.size(); ++i) pose[i].body_center = Eigen::Vector3d(0, 1400.0 - 25.0 * double(i), 0);
-  p.vertebrae = pose;
-  p.fit.cost = 0.05;
-  p.latency_us = 900;
-  return p;
-}
+Posture tracking_posture() { return test::sample_tracking_posture(); }
 
 TEST(StreamLines, HelloAndPostureLinesValidateAgainstTheSchemas) {
   test::TempDir dir;

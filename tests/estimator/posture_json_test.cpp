@@ -10,23 +10,7 @@
 namespace spinewatch {
 namespace {
 
-Posture tracking_posture() {
-  Posture p;
-  p.seq = 17;
-  p.t_ns = 566666666;
-  p.state = TrackingState::Tracking;
-  SpinePose pose;
-  for (std::size_t i = 0; i < kVertebraCount; ++i) {
-    pose[i].body_center = Eigen::Vector3d(-60.0 + i, 1450.0 - 28.0 * i, 0.5 * i);
-    pose[i].q = Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitZ()));
-  }
-  p.vertebrae = pose;
-  p.neck = pose[kNeckIndex].body_center;
-  p.waist = pose[kWaistIndex].body_center;
-  p.fit.cost = 0.031;
-  p.latency_us = 412;
-  return p;
-}
+Posture tracking_posture() { return test::sample_tracking_posture(); }
 
 TEST(PostureJson, RequiredFieldsInOrderAndNames) {
   const auto j = nlohmann::json::parse(encode_posture(tracking_posture()));

@@ -65,6 +65,24 @@ CommandResult run_command(const std::string& command_line) {
 
 CommandResult run_cli(const std::string& args) { return run_command(std::string(SPINEWATCH_CLI) + " " + args); }
 
+Posture sample_tracking_posture() {
+  Posture p;
+  p.seq = 17;
+  p.t_ns = 566666666;
+  p.state = TrackingState::Tracking;
+  SpinePose pose;
+  for (std::size_t i = 0; i < kVertebraCount; ++i) {
+    pose[i].body_center = Eigen::Vector3d(-60.0 + double(i), 1450.0 - 28.0 * double(i), 0.5 * double(i));
+    pose[i].q = Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * double(i), Eigen::Vector3d::UnitZ()));
+  }
+  p.vertebrae = pose;
+  p.neck = pose[kNeckIndex].body_center;
+  p.waist = pose[kWaistIndex].body_center;
+  p.fit.cost = 0.031;
+  p.latency_us = 412;
+  return p;
+}
+
 std::string validate_ndjson(const std::filesystem::path& file) {
   const auto script = source_path("tests/support/validate_ndjson.py");
   const auto schema_dir = source_path("docs");

@@ -3,7 +3,13 @@
 #include <string>
 #include <vector>
 
+#include "spinewatch/estimator/posture.hpp"
+
 namespace spinewatch::test {
+
+// A plausible tracking posture: seq 17, t_ns 566666666, a gently curved
+// spine rotating a little per level, fit cost 0.031, latency 412 µs.
+Posture sample_tracking_posture();
 
 // A fresh directory under the build tree, removed when the object goes.
 class TempDir {

@@ -39,7 +39,7 @@ std::string make_hello_line(const std::string& station, const CameraRig& rig, co
 }
 
 std::string encode_posture_line(const Posture& posture, const StreamStats& stats) {
-  nlohmann::json line = to_json(posture);
+  auto line = to_json(posture);
   line["stats"] = {{"pairs", stats.pairs},
                    {"pairs_dropped", stats.pairs_dropped},
                    {"frames_lost", stats.frames_lost},

@@ -8,16 +8,23 @@
 namespace spinewatch {
 namespace {
 using nlohmann::json;
+// Output keeps the documented field order (class, v, seq, … as in interfaces.md §3).
+using ojson = nlohmann::ordered_json;
 
 // Positions to 0.01 mm and quaternions to 1e-6 are far below what the
 // method resolves, and keep lines short.
-double round_to(double v, double quantum) { return std::round(v / quantum) * quantum; }
-
-json vec3(const Eigen::Vector3d& v, double quantum = 0.01) {
-  return json::array({round_to(v.x(), quantum), round_to(v.y(), quantum), round_to(v.z(), quantum)});
+// Dividing by the exact integer 1/quantum (rather than multiplying by the
+// inexact quantum) gives the double nearest the decimal, which prints short.
+double round_to(double v, double quantum) {
+  const double inverse = std::round(1.0 / quantum);
+  return std::round(v * inverse) / inverse;
 }
-json quat(const Eigen::Quaterniond& q) {
-  return json::array({round_to(q.w(), 1e-6), round_to(q.x(), 1e-6), round_to(q.y(), 1e-6), round_to(q.z(), 1e-6)});
+
+ojson vec3(const Eigen::Vector3d& v, double quantum = 0.01) {
+  return ojson::array({round_to(v.x(), quantum), round_to(v.y(), quantum), round_to(v.z(), quantum)});
+}
+ojson quat(const Eigen::Quaterniond& q) {
+  return ojson::array({round_to(q.w(), 1e-6), round_to(q.x(), 1e-6), round_to(q.y(), 1e-6), round_to(q.z(), 1e-6)});
 }
 
 Result<Eigen::Vector3d> read_vec3(const json& j, std::string_view where, std::string_view key) {
@@ -58,17 +65,17 @@ std::string_view to_string(TrackingState state) {
   return "lost";
 }
 
-json to_json(const Posture& p) {
-  json j;
+ojson to_json(const Posture& p) {
+  ojson j;
   j["class"] = "posture";
   j["v"] = kPostureSchemaVersion;
   j["seq"] = p.seq;
   j["t_ns"] = p.t_ns;
   j["state"] = to_string(p.state);
-  j["neck"] = p.neck ? vec3(*p.neck) : json(nullptr);
-  j["waist"] = p.waist ? vec3(*p.waist) : json(nullptr);
+  j["neck"] = p.neck ? vec3(*p.neck) : ojson(nullptr);
+  j["waist"] = p.waist ? vec3(*p.waist) : ojson(nullptr);
   if (p.vertebrae) {
-    json list = json::array();
+    ojson list = ojson::array();
     for (std::size_t i = 0; i < kVertebraCount; ++i)
       list.push_back({{"name", kVertebraNames[i]},
                       {"body_center", vec3((*p.vertebrae)[i].body_center)},
@@ -77,7 +84,7 @@ json to_json(const Posture& p) {
   } else {
     j["vertebrae"] = nullptr;
   }
-  json fit = {{"cost", round_to(p.fit.cost, 1e-6)}};
+  ojson fit = {{"cost", round_to(p.fit.cost, 1e-6)}};
   if (p.fit.xor_frontal_px) fit["xor_frontal_px"] = *p.fit.xor_frontal_px;
   if (p.fit.xor_lateral_px) fit["xor_lateral_px"] = *p.fit.xor_lateral_px;
   if (p.fit.silhouette_frontal_px) fit["silhouette_frontal_px"] = *p.fit.silhouette_frontal_px;
@@ -90,20 +97,20 @@ json to_json(const Posture& p) {
   if (p.neck_dir) j["neck_dir"] = vec3(*p.neck_dir, 1e-6);
   if (p.waist_dir) j["waist_dir"] = vec3(*p.waist_dir, 1e-6);
   if (!p.angles.empty()) {
-    json a = json::array();
+    ojson a = ojson::array();
     for (const auto& l : p.angles)
       a.push_back({{"level", l.level}, {"flexion", round_to(l.flexion, 0.01)},
                    {"lateral", round_to(l.lateral, 0.01)}, {"twist", round_to(l.twist, 0.01)}});
     j["angles"] = std::move(a);
   }
   if (!p.loads.empty()) {
-    json a = json::array();
+    ojson a = ojson::array();
     for (const auto& l : p.loads) a.push_back({{"level", l.level}, {"compression_n", round_to(l.compression_n, 0.1)}});
     j["loads"] = std::move(a);
   }
   if (p.ergonomics) {
     const auto& e = *p.ergonomics;
-    json flags = json::array();
+    ojson flags = ojson::array();
     for (const auto& f : e.flags)
       flags.push_back({{"rule", f.rule}, {"severity", f.severity}, {"value", round_to(f.value, 0.01)},
                        {"held_s", round_to(f.held_s, 0.01)}});

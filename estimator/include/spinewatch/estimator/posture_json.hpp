@@ -13,7 +13,7 @@ namespace spinewatch {
 
 inline constexpr int kPostureSchemaVersion = 1;
 
-nlohmann::json to_json(const Posture& posture);
+nlohmann::ordered_json to_json(const Posture& posture);
 std::string encode_posture(const Posture& posture);
 // Reads a posture line (ground truth, a recorded stream). `where` prefixes
 // error messages, e.g. "ground_truth.ndjson:12".
