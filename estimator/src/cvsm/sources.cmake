@@ -4,6 +4,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/fixed_camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/xor_cost.cpp
   ${CMAKE_CURRENT_LIST_DIR}/subject_estimate.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/template_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp)
 # The generic model, built into the library (like config/spine-generic.toml).
 embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp

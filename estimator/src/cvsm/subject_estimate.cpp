@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "coordinate_search.hpp"
@@ -63,7 +64,20 @@ using ShapeParams = std::array<double, 12>;
 // height and breadths are then independent directions for the descent.
 constexpr double kReferenceHeight = 1750;
 
-void apply_params(SubjectEstimate& s, const ShapeParams& p) {
+// Height moves the whole spine with it, but what the silhouettes pin down
+// best is the shoulder line: a taller model lower down fits almost as well
+// as a shorter one higher up, a narrow diagonal valley that a coordinate
+// descent crawls along. So the vertical translation is searched with T1
+// held still: changing the height parameter keeps T1 (and the shoulders)
+// in place and moves only what lies below it.
+// How far T1 rises per millimetre of height: standing, L5 rises with it
+// (it stands on the legs); seated, L5 stays on the seat.
+double t1_fraction(const SpineSpec& spine, SubjectPosture posture) {
+  const double t1 = neutral_pose(spine, kReferenceHeight)[kNeckIndex].body_center.y() / kReferenceHeight;
+  return posture == SubjectPosture::Standing ? t1 : t1 - spine.l5_height_fraction;
+}
+
+void apply_params(SubjectEstimate& s, const ShapeParams& p, double t1) {
   s.crown_y = p[11];
   s.shape.height_mm = p[0];
   const double per_height = kReferenceHeight / p[0];
@@ -71,18 +85,18 @@ void apply_params(SubjectEstimate& s, const ShapeParams& p) {
   s.shape.depth_scale = p[2] * per_height;
   s.shape.shoulder_scale = p[3] * per_height;
   s.shape.limb_scale = p[4] * per_height;
-  s.pose.translation = {p[5], p[6], p[7]};
+  s.pose.translation = {p[5], p[6] - t1 * p[0], p[7]};
   s.pose.flexion = p[8];
   s.pose.lateral = p[9];
   s.pose.pelvis_flexion = p[10];
 }
 
-ShapeParams params_of(const SubjectEstimate& s) {
+ShapeParams params_of(const SubjectEstimate& s, double t1) {
   const double per_height = s.shape.height_mm / kReferenceHeight;
   return {s.shape.height_mm, s.shape.width_scale * per_height, s.shape.depth_scale * per_height,
           s.shape.shoulder_scale * per_height, s.shape.limb_scale * per_height,
-          s.pose.translation.x(), s.pose.translation.y(), s.pose.translation.z(), s.pose.flexion, s.pose.lateral,
-          s.pose.pelvis_flexion, s.crown_y};
+          s.pose.translation.x(), s.pose.translation.y() + t1 * s.shape.height_mm, s.pose.translation.z(),
+          s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y};
 }
 
 std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
@@ -145,33 +159,45 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
 int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    const CvsmOptions& options) {
   if (options.posture) return 0;
-  // Seated: the height is the configured one and L5 sits lower by the
-  // difference between the standing estimate and it.
-  SubjectEstimate seated = s;
-  seated.shape.posture = SubjectPosture::Seated;
-  seated.shape.height_mm = options.height_mm;
-  seated.base_l5.y() = kCrown * s.shape.height_mm - (kCrown - spine.l5_height_fraction) * options.height_mm;
-  int n = refine_subject(s, cost, spec, spine, 60);
-  n += refine_subject(seated, cost, spec, spine, 60);
   std::vector<Eigen::Vector3d> points;
-  if (subject_cost(seated, cost, spec, spine, points, INT64_MAX) < subject_cost(s, cost, spec, spine, points, INT64_MAX))
-    s = seated;
-  return n + 2;
+  int n = refine_subject(s, cost, spec, spine, 60);
+  std::int64_t best = subject_cost(s, cost, spec, spine, points, INT64_MAX);
+  // Seated, the crown no longer tells the height: the trunk's length
+  // (crown to seat) does, so a few heights are tried, each hanging from
+  // the measured crown, and the best refined.
+  std::optional<SubjectEstimate> best_seated;
+  std::int64_t best_seated_cost = INT64_MAX;
+  for (double height = 1450; height <= 1950; height += 100) {
+    SubjectEstimate seated = s;
+    seated.shape.posture = SubjectPosture::Seated;
+    seated.shape.height_mm = height;
+    seated.base_l5.y() = s.crown_y - (kCrown - spine.l5_height_fraction) * height;
+    n += refine_subject(seated, cost, spec, spine, 30);
+    const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
+    if (c < best_seated_cost) {
+      best_seated_cost = c;
+      best_seated = seated;
+    }
+  }
+  n += refine_subject(*best_seated, cost, spec, spine, 60);
+  if (subject_cost(*best_seated, cost, spec, spine, points, INT64_MAX) < best) s = *best_seated;
+  return n + 8;
 }
 
 int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
   std::vector<Eigen::Vector3d> points;
   SubjectEstimate trial = s;
+  const double t1 = t1_fraction(spine, s.shape.posture);
   auto eval = [&](const ShapeParams& p, std::int64_t limit) {
-    apply_params(trial, p);
+    apply_params(trial, p, t1);
     return subject_cost(trial, cost, spec, spine, points, limit);
   };
-  const ShapeParams start = params_of(s);
+  const ShapeParams start = params_of(s, t1);
   const std::int64_t c0 = eval(start, INT64_MAX);
   const ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8};
   auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
                                            [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
-  apply_params(s, d.params);
+  apply_params(s, d.params, t1);
   return d.evaluations + 1;
 }
 

@@ -46,6 +46,7 @@ struct CvsmTracker::Impl {
   int init_frames = 0;
   bool lost = true;     // the next tracked frame needs a global search
   CvsmPose pose, previous;
+  Eigen::Vector3d home = Eigen::Vector3d::Zero();  // the translation the subject model was built at
   bool have_previous = false;
 
   Impl(const CameraRig& r, CvsmOptions o)
@@ -57,8 +58,28 @@ struct CvsmTracker::Impl {
     return cost->evaluate(m, points, limit);
   }
 
+  // The hip joints stay where the subject stood or sat: moving them is
+  // charged in pixels, so a bend is explained by the spine and pelvis
+  // rather than by sliding the whole body (the outline alone barely tells
+  // a pelvis tilt from a forward shift). Quadratic, so the few millimetres
+  // of sway cost next to nothing and a real step still wins.
+  // 0.5 px/mm²: 10 mm cost 50 pixels, 30 mm 450 (a whole-body outline
+  // shift of 30 mm leaves well over a thousand XOR pixels). The global
+  // search looks everywhere, unanchored; when it finds the subject a real
+  // step away (kNewHomeMm), that is where the subject now stands.
+  static constexpr double kTranslationPxPerMm2 = 0.5;
+  static constexpr double kNewHomeMm = 50;
+  bool anchored = true;
+  std::int64_t translation_penalty(const PoseParams& a) const {
+    if (!anchored) return 0;
+    const double d2 = (Eigen::Vector3d(a[5], a[6], a[7]) - home).squaredNorm();
+    return static_cast<std::int64_t>(kTranslationPxPerMm2 * d2 / cost->row_step());
+  }
+
   std::int64_t cost_of(const PoseParams& a, std::int64_t limit) {
-    return evaluate(model, to_pose(a), limit).total();
+    const std::int64_t penalty = translation_penalty(a);
+    if (penalty >= limit) return penalty;
+    return evaluate(model, to_pose(a), limit - penalty).total() + penalty;
   }
 
   // Local coarse-to-fine search around `start` (and a constant-velocity
@@ -171,6 +192,7 @@ struct CvsmTracker::Impl {
       model = cvsm_detail::build(*subject, spec, spine);
       have_model = true;
       pose = subject->pose;
+      home = pose.translation;
       have_previous = false;
       ++init_frames;
       const bool done = init_frames >= opt.subject_frames;
@@ -187,7 +209,9 @@ struct CvsmTracker::Impl {
     // and counting, and a person is well over a hundred rows tall.
     cost->set_row_step(opt.search_row_step);
     if (lost) {
+      anchored = false;
       candidates = global_search(opt.global_budget);
+      anchored = true;
       have_previous = false;
     } else {
       candidates = local_search(opt.local_budget);
@@ -198,6 +222,7 @@ struct CvsmTracker::Impl {
       if (!have_previous) pose = before;
       have_previous = false;
     } else {
+      if ((pose.translation - home).norm() > kNewHomeMm) home = pose.translation;
       previous = before;
       have_previous = flag.empty();
     }

@@ -209,7 +209,11 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     Eigen::Vector3d* cached = cache.world.data() + p * kControlPoints;
     if (std::memcmp(static_cast<const void*>(w), static_cast<const void*>(cached), sizeof(Eigen::Vector3d) * kControlPoints) != 0) {
       std::copy_n(w, kControlPoints, cached);
-      ++cache.plane_version[p];
+      // Versions come from one counter that never goes back, so a span
+      // keyed on (planes, versions) cannot be mistaken for one of another
+      // model whose planes happen to share the indices (standing and
+      // seated models are compared on the same cost during the init).
+      cache.plane_version[p] = ++cache.version_counter;
       PixelQ8* out = proj.data() + p * kControlPoints;
       cache.plane_in_front[p] = project_plane(view, w, out);
       if (cache.plane_in_front[p]) {

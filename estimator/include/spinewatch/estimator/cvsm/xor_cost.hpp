@@ -65,7 +65,8 @@ class XorCost {
   struct ViewCache {
     std::vector<Eigen::Vector3d> world;  // the points the entries below belong to
     std::vector<std::uint8_t> plane_in_front;
-    std::vector<std::uint32_t> plane_version;  // bumped whenever a plane's points change
+    std::vector<std::uint32_t> plane_version;  // renewed whenever a plane's points change
+    std::uint32_t version_counter = 0;
     std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, sorted by (v, u)
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
     std::vector<int> segment_r0, segment_rows;
