@@ -6,11 +6,12 @@
 // The issue's targets (docs/cvsm.md): mean 3D error ≤ 10 mm and p95 ≤ 20 mm
 // for both, no lost frame on the slow scenarios, and after `fast` (a 40°
 // bend in half a second) tracking back within 5 frames. The lost-frame and
-// recovery targets are met and asserted. The error targets are NOT met yet
-// (neck 14–31 mm, waist 5–28 mm mean, docs/cvsm.md has the table): the
-// active test guards the present level against regressions, and
-// DISABLED_MeetsTheIssueTargets asserts the targets themselves — run it
-// with --gtest_also_run_disabled_tests; enable it once it passes.
+// recovery targets are met and asserted. The error targets are met on 17
+// of the 18 scenario × subject runs; the tall subject's neck in `flexion`
+// has a mean of 10.5 mm (p95 16.1 mm). The active test guards the present
+// level against regressions, and DISABLED_MeetsTheIssueTargets asserts the
+// targets themselves — run it with --gtest_also_run_disabled_tests;
+// enable it once it passes everywhere.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -107,8 +108,9 @@ Stats run(const std::string& scenario, const std::string& subject_name) {
 struct Bounds {
   double mean_mm, p95_mm;
 };
-// Present level plus a margin (worst measured: mean 13.7 mm, p95 18.4 mm).
-constexpr Bounds kRegression{16.0, 22.0};
+// Present level plus a margin (worst measured: mean 10.5 mm, p95 16.1 mm,
+// the tall subject's neck in `flexion`).
+constexpr Bounds kRegression{13.0, 20.0};
 constexpr Bounds kIssueTarget{10.0, 20.0};
 
 void expect_accurate(const Stats& st, const std::string& what, Bounds b) {

@@ -56,8 +56,10 @@ Eigen::Vector3d on_plane(const CameraModel& cam, const Eigen::Vector2d& pixel, c
 
 constexpr double kCrown = 0.995;  // top of the model's head as a fraction of height (cvsm-generic.toml)
 
-// H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown
-using ShapeParams = std::array<double, 12>;
+// H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown, twist
+// (the subject may already move while its model is built: a pose left out
+// here would be absorbed by the shape)
+using ShapeParams = std::array<double, 13>;
 
 // Breadths are searched in mm at the reference height (scale × H), so a
 // change of height alone keeps every breadth and only stretches lengths:
@@ -89,6 +91,7 @@ void apply_params(SubjectEstimate& s, const ShapeParams& p, double t1) {
   s.pose.flexion = p[8];
   s.pose.lateral = p[9];
   s.pose.pelvis_flexion = p[10];
+  s.pose.twist = p[12];
 }
 
 ShapeParams params_of(const SubjectEstimate& s, double t1) {
@@ -96,7 +99,7 @@ ShapeParams params_of(const SubjectEstimate& s, double t1) {
   return {s.shape.height_mm, s.shape.width_scale * per_height, s.shape.depth_scale * per_height,
           s.shape.shoulder_scale * per_height, s.shape.limb_scale * per_height,
           s.pose.translation.x(), s.pose.translation.y() + t1 * s.shape.height_mm, s.pose.translation.z(),
-          s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y};
+          s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y, s.pose.twist};
 }
 
 std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
@@ -167,12 +170,12 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // the measured crown, and the best refined.
   std::optional<SubjectEstimate> best_seated;
   std::int64_t best_seated_cost = INT64_MAX;
-  for (double height = 1450; height <= 1950; height += 100) {
+  for (double height = 1450; height <= 1950; height += 50) {
     SubjectEstimate seated = s;
     seated.shape.posture = SubjectPosture::Seated;
     seated.shape.height_mm = height;
     seated.base_l5.y() = s.crown_y - (kCrown - spine.l5_height_fraction) * height;
-    n += refine_subject(seated, cost, spec, spine, 30);
+    n += refine_subject(seated, cost, spec, spine, 60);
     const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
     if (c < best_seated_cost) {
       best_seated_cost = c;
@@ -194,7 +197,7 @@ int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   };
   const ShapeParams start = params_of(s, t1);
   const std::int64_t c0 = eval(start, INT64_MAX);
-  const ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8};
+  const ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8, 3};
   auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
                                            [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
   apply_params(s, d.params, t1);

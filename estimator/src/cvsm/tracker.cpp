@@ -13,18 +13,25 @@ using cvsm_detail::coordinate_descent;
 
 namespace {
 
-using PoseParams = std::array<double, 8>;  // flexion, lateral, twist, pelvis flexion, pelvis lateral, tx, ty, tz
+// The search's parameters: total trunk flexion T (spine and pelvis
+// together, a third of it in the pelvis as in a natural forward bend),
+// lateral, twist, the pelvis's share beyond that third, pelvis lateral and
+// the translation. A bend then moves along one parameter instead of two,
+// and the residual only settles how it is shared.
+using PoseParams = std::array<double, 8>;  // T, lateral, twist, pelvis residual, pelvis lateral, tx, ty, tz
+constexpr double kPelvisShare = 1.0 / 3.0;
 
 PoseParams to_params(const CvsmPose& p) {
-  return {p.flexion, p.lateral, p.twist, p.pelvis_flexion, p.pelvis_lateral,
+  const double total = p.flexion + p.pelvis_flexion;
+  return {total, p.lateral, p.twist, p.pelvis_flexion - kPelvisShare * total, p.pelvis_lateral,
           p.translation.x(), p.translation.y(), p.translation.z()};
 }
 CvsmPose to_pose(const PoseParams& a) {
   CvsmPose p;
-  p.flexion = a[0];
+  p.pelvis_flexion = kPelvisShare * a[0] + a[3];
+  p.flexion = a[0] - p.pelvis_flexion;
   p.lateral = a[1];
   p.twist = a[2];
-  p.pelvis_flexion = a[3];
   p.pelvis_lateral = a[4];
   p.translation = {a[5], a[6], a[7]};
   return p;
@@ -107,8 +114,8 @@ struct CvsmTracker::Impl {
     return evaluations + d.evaluations;
   }
 
-  // Whole-range search over trunk flexion and lateral bending (flexion
-  // shared two thirds spine, one third pelvis), then a wide local search.
+  // Whole-range search over trunk flexion and lateral bending, then a wide
+  // local search.
   int global_search(int budget) {
     PoseParams best = to_params(pose);
     best[0] = best[1] = best[2] = best[3] = best[4] = 0;
@@ -118,8 +125,8 @@ struct CvsmTracker::Impl {
     for (double f = -20; f <= 80; f += 10)
       for (double l = -30; l <= 30; l += 10) {
         PoseParams a = base;
-        a[0] = f * 2 / 3;
-        a[3] = f / 3;
+        a[0] = f;
+        a[3] = 0;
         a[1] = l;
         const std::int64_t c = cost_of(a, best_cost);
         ++evaluations;
