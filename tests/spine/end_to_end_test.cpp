@@ -1,0 +1,47 @@
+// The whole estimator from images (issue #5's end-to-end target): phantom
+// recordings of subjects unlike the generic model, replayed and scored by
+// the CLI exactly as a user runs them (`spinewatch phantom`, `spinewatch
+// eval`), every vertebra's body centre against the ground truth.
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+struct Case {
+  const char* scenario;
+  const char* subject;
+};
+
+class EndToEnd : public ::testing::TestWithParam<Case> {};
+
+TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverage) {
+  const Case c = GetParam();
+  test::TempDir dir;
+  const auto rec = dir / "rec";
+  const auto phantom = test::run_cli(std::string("phantom --scenario ") + c.scenario + " --subject " +
+                                     SPINEWATCH_SOURCE_DIR + "/config/subjects/" + c.subject + ".json --out " + rec.string());
+  ASSERT_EQ(phantom.exit_code, 0) << phantom.output;
+  const auto eval = test::run_cli("eval --json --recording " + rec.string());
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  // The JSON summary is the last line (the estimator logs before it).
+  const auto brace = eval.output.rfind("\n{");
+  const auto summary = nlohmann::json::parse(eval.output.substr(brace == std::string::npos ? 0 : brace + 1));
+  EXPECT_EQ(summary["lost_frames"], 0);
+  EXPECT_GT(summary["estimated_frames"].get<int>(), summary["truth_frames"].get<int>() * 3 / 4);
+  EXPECT_LE(summary["vertebrae"]["mean"].get<double>(), 10.0) << summary.dump();
+  // Measured 3.2–8.2 mm mean, 15–19 mm at worst (docs/performance.md).
+  EXPECT_LE(summary["vertebrae"]["max"].get<double>(), 30.0) << summary.dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(Phantom, EndToEnd,
+                         ::testing::Values(Case{"flexion", "tall"}, Case{"lateral_left", "petite"},
+                                           Case{"twist", "tall"}, Case{"seated_flexion", "petite"}),
+                         [](const auto& info) { return std::string(info.param.scenario) + "_" + info.param.subject; });
+
+}  // namespace
+}  // namespace spinewatch
