@@ -8,10 +8,8 @@
 // bend in half a second) tracking back within 5 frames. The lost-frame and
 // recovery targets are met and asserted. The error targets are met on 17
 // of the 18 scenario × subject runs; the tall subject's neck in `flexion`
-// has a mean of 10.5 mm (p95 16.1 mm). The active test guards the present
-// level against regressions, and DISABLED_MeetsTheIssueTargets asserts the
-// targets themselves — run it with --gtest_also_run_disabled_tests;
-// enable it once it passes everywhere.
+// has a mean of 10.5 mm (p95 16.1 mm): that run is held to the regression
+// bounds below and says so; every other run is held to the targets.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -125,17 +123,23 @@ void expect_accurate(const Stats& st, const std::string& what, Bounds b) {
 
 class PhantomAccuracy : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(PhantomAccuracy, NeverLostAndNoWorseThanNowForPetiteAndTall) {
-  for (const char* subject : {"petite", "tall"}) {
-    const Stats st = run(GetParam(), subject);
-    expect_accurate(st, std::string(GetParam()) + "/" + subject, kRegression);
-  }
+// The one run that misses the targets, held to the regression bounds
+// instead (and said so in the output) until it meets them.
+bool known_shortfall(std::string_view scenario, std::string_view subject) {
+  return scenario == "flexion" && subject == "tall";
 }
 
-TEST_P(PhantomAccuracy, DISABLED_MeetsTheIssueTargets) {
+TEST_P(PhantomAccuracy, NeverLostAndWithinTheIssueTargetsForPetiteAndTall) {
   for (const char* subject : {"petite", "tall"}) {
     const Stats st = run(GetParam(), subject);
-    expect_accurate(st, std::string(GetParam()) + "/" + subject, kIssueTarget);
+    const std::string what = std::string(GetParam()) + "/" + subject;
+    if (known_shortfall(GetParam(), subject)) {
+      std::printf("known shortfall %s: held to mean <= %.0f mm, p95 <= %.0f mm (docs/cvsm.md)\n", what.c_str(),
+                  kRegression.mean_mm, kRegression.p95_mm);
+      expect_accurate(st, what, kRegression);
+    } else {
+      expect_accurate(st, what, kIssueTarget);
+    }
   }
 }
 
@@ -152,9 +156,9 @@ TEST(PhantomAccuracyFast, RecoversWithinFiveFramesAfterAFastBend) {
     ASSERT_GT(st.person_frames, 0);
     EXPECT_LE(st.longest_lost_run, 5) << subject;
     EXPECT_TRUE(st.tracking_at_end) << subject;
-    // The frames that were tracked are still usable.
-    EXPECT_LE(mean(st.neck), kRegression.mean_mm) << subject;
-    EXPECT_LE(mean(st.waist), kRegression.mean_mm) << subject;
+    // The frames that were tracked are as good as on the slow scenarios.
+    EXPECT_LE(mean(st.neck), kIssueTarget.mean_mm) << subject;
+    EXPECT_LE(mean(st.waist), kIssueTarget.mean_mm) << subject;
   }
 }
 

@@ -2,11 +2,16 @@
 // recordings of subjects unlike the generic model, replayed and scored by
 // the CLI exactly as a user runs them (`spinewatch phantom`, `spinewatch
 // eval`), every vertebra's body centre against the ground truth.
+#include <cmath>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "spinewatch/estimator/anatomy/kinematics.hpp"
+#include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/estimator/posture_json.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {
@@ -19,7 +24,7 @@ struct Case {
 
 class EndToEnd : public ::testing::TestWithParam<Case> {};
 
-TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverage) {
+TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverageAndAnatomical) {
   const Case c = GetParam();
   test::TempDir dir;
   const auto rec = dir / "rec";
@@ -34,8 +39,32 @@ TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverage) {
   EXPECT_EQ(summary["lost_frames"], 0);
   EXPECT_GT(summary["estimated_frames"].get<int>(), summary["truth_frames"].get<int>() * 3 / 4);
   EXPECT_LE(summary["vertebrae"]["mean"].get<double>(), 10.0) << summary.dump();
-  // Measured 3.2–8.2 mm mean, 15–19 mm at worst (docs/performance.md).
+  // Measured 3.2–8.2 mm mean, 15–19 mm at worst (docs/spine-model.md).
   EXPECT_LE(summary["vertebrae"]["max"].get<double>(), 30.0) << summary.dump();
+
+  // Every posture the stream carries is anatomical: unit quaternions (to
+  // the printed precision) and every joint inside its range of motion.
+  const auto out = dir / "out.ndjson";
+  const auto replay = test::run_cli("replay --recording " + rec.string() + " --out " + out.string());
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  const SpineSpec& spec = generic_spine_spec();
+  std::ifstream in(out);
+  std::string line;
+  int postures = 0;
+  for (int n = 1; std::getline(in, line); ++n) {
+    auto p = decode_posture(line, out.string() + ":" + std::to_string(n));
+    ASSERT_TRUE(p) << p.error().message;
+    if (!p->vertebrae) continue;
+    ++postures;
+    for (const auto& v : *p->vertebrae) ASSERT_NEAR(v.q.norm(), 1.0, 1e-3) << "line " << n;
+    const auto angles = intervertebral_angles(*p->vertebrae);
+    for (std::size_t j = 0; j < kJointCount; ++j) {
+      ASSERT_LE(std::abs(angles[j].flexion), spec.joints[j].flexion_deg + 0.5) << "line " << n << " joint " << j;
+      ASSERT_LE(std::abs(angles[j].lateral), spec.joints[j].lateral_deg + 0.5) << "line " << n << " joint " << j;
+      ASSERT_LE(std::abs(angles[j].twist), spec.joints[j].axial_deg + 0.5) << "line " << n << " joint " << j;
+    }
+  }
+  EXPECT_EQ(postures, summary["estimated_frames"].get<int>() + summary["init_frames"].get<int>());
 }
 
 INSTANTIATE_TEST_SUITE_P(Phantom, EndToEnd,

@@ -147,6 +147,7 @@ struct CvsmTracker::Impl {
     cost->set_row_step(1);  // the reported figures are whole-image pixel counts
     const XorCounts c = evaluate(model, pose, INT64_MAX);
     r.pose = pose;
+    r.estimated = true;
     r.vertebrae = pose_vertebrae(model, spine, pose);
     r.fit.cost = c.cost();
     r.fit.xor_frontal_px = c.xor_px[0];

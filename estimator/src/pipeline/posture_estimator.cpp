@@ -82,6 +82,9 @@ struct PostureEstimator::Impl {
   std::optional<ErgonomicsMonitor> ergonomics;
   LoadParams load_params = default_load_params();
   std::optional<std::int64_t> previous_t_ns;
+  SilhouetteResult last_silhouettes[2];
+  CvsmResult last_fit;
+  bool processed = false;
 };
 
 PostureEstimator::PostureEstimator(const CameraRig& rig, const EstimatorOptions& options)
@@ -97,15 +100,31 @@ Status PostureEstimator::set_backgrounds(const LumaView& frontal, const LumaView
   return Ok{};
 }
 
+EstimatorTrace PostureEstimator::last_trace() const {
+  const Impl& m = *impl_;
+  EstimatorTrace trace;
+  if (!m.processed) return trace;
+  trace.silhouette[0] = &m.last_silhouettes[0].mask;
+  trace.silhouette[1] = &m.last_silhouettes[1].mask;
+  trace.fit = &m.last_fit;
+  trace.body_model = m.tracker.subject_model();
+  return trace;
+}
+
 Posture PostureEstimator::process(const FramePair& pair) {
   Impl& m = *impl_;
   Posture posture;
   posture.seq = pair.sequence;
   posture.t_ns = pair.timestamp_ns;
 
-  const SilhouetteResult frontal = m.silhouettes[0].extract(pair.frontal.luma());
-  const SilhouetteResult lateral = m.silhouettes[1].extract(pair.lateral.luma());
-  const CvsmResult fit = m.tracker.track(frontal, lateral);
+  // Kept in Impl (moved, not copied) so that last_trace() can show them.
+  m.last_silhouettes[0] = m.silhouettes[0].extract(pair.frontal.luma());
+  m.last_silhouettes[1] = m.silhouettes[1].extract(pair.lateral.luma());
+  const SilhouetteResult& frontal = m.last_silhouettes[0];
+  const SilhouetteResult& lateral = m.last_silhouettes[1];
+  m.last_fit = m.tracker.track(frontal, lateral);
+  m.processed = true;
+  const CvsmResult& fit = m.last_fit;
   posture.state = fit.state;
   posture.fit = fit.fit;
 
@@ -114,6 +133,8 @@ Posture PostureEstimator::process(const FramePair& pair) {
     m.previous_t_ns.reset();
     return posture;
   }
+  // Learning the background: no posture to give, not even a provisional one.
+  if (!fit.estimated) return posture;
   posture.neck_dir = fit.neck_dir;
   posture.waist_dir = fit.waist_dir;
   if (fit.state == TrackingState::Init) {

@@ -12,6 +12,18 @@
 
 namespace spinewatch {
 
+class BitMask;
+struct BodyModel;
+struct CvsmResult;
+
+// What the last process() saw and fitted, for overlays and diagnostics.
+// Valid until the next process(); null before the first one.
+struct EstimatorTrace {
+  const BitMask* silhouette[2] = {nullptr, nullptr};  // person blob, frontal and lateral
+  const CvsmResult* fit = nullptr;
+  const BodyModel* body_model = nullptr;  // the subject's CVSM; null until built
+};
+
 struct EstimatorOptions {
   // Silhouettes (config [silhouette]).
   std::string background = "learn";  // learn | image | threshold
@@ -42,6 +54,8 @@ class PostureEstimator {
   // Stored empty-scene images for background = "image" (the caller reads
   // them; the estimator does no I/O). Errors name the view and the problem.
   Status set_backgrounds(const LumaView& frontal, const LumaView& lateral);
+
+  EstimatorTrace last_trace() const;
 
  private:
   struct Impl;

@@ -37,6 +37,9 @@ struct CvsmResult {
   SpinePose vertebrae{};  // the CVSM's own estimate of all 17
   FitDiagnostics fit;     // cost, xor/silhouette pixel counts per view, candidates, flag
   CvsmPose pose;          // the fitted deformation
+  // Whether neck, waist and vertebrae hold a fit: not while the background
+  // is learnt (state init) nor with no person (state lost).
+  bool estimated = false;
   bool valid() const { return state != TrackingState::Lost; }
 };
 
