@@ -1,6 +1,6 @@
 // spinewatch devices: what an installer needs to fill in the configuration,
-// the V4L2 capture nodes with their formats and sizes, and the GPIO chips
-// with their lines.
+// the V4L2 capture nodes with their formats and sizes, the libcamera
+// cameras (when built with libcamera), and the GPIO chips with their lines.
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -10,6 +10,7 @@
 #include <gpiod.hpp>
 
 #include "command.hpp"
+#include "spinewatch/capture/libcamera_camera.hpp"
 #include "spinewatch/capture/v4l2_probe.hpp"
 
 namespace spinewatch::cli {
@@ -41,6 +42,26 @@ void list_video_devices() {
   }
 }
 
+// With libcamera built: the cameras it sees, by the ids cameras.frontal
+// and cameras.lateral take when cameras.source = "libcamera".
+void list_libcamera_cameras_found() {
+  if (!libcamera_built()) return;
+  auto cameras = list_libcamera_cameras();
+  if (!cameras) {
+    fmt::print("libcamera: {}\n", cameras.error().message);
+    return;
+  }
+  if (cameras->empty()) {
+    fmt::print("No libcamera cameras found.\n");
+    return;
+  }
+  fmt::print("libcamera cameras (cameras.source = \"libcamera\"; use the id in quotes):\n");
+  for (const auto& c : *cameras) {
+    fmt::print("  \"{}\"{}\n", c.id, c.model.empty() ? std::string() : fmt::format(": {}", c.model));
+    for (const auto& f : c.formats) fmt::print("    {}\n", f);
+  }
+}
+
 void list_gpio_chips() {
   int chips = 0;
   try {
@@ -68,6 +89,7 @@ void add_devices_command(CLI::App& app, ExitCode& exit_code) {
   auto* cmd = app.add_subcommand("devices", "List V4L2 cameras and GPIO chips for the configuration");
   cmd->callback([&exit_code] {
     list_video_devices();
+    list_libcamera_cameras_found();
     list_gpio_chips();
     std::fflush(stdout);
     exit_code.value = 0;

@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "spinewatch/capture/recorder.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
 #include "spinewatch/daemon/config.hpp"
@@ -143,11 +144,6 @@ int record(const RecordOptions& opts) {
       return 1;
     }
   }
-  if (cameras[0]->format() != cameras[1]->format()) {
-    spdlog::error("the cameras disagree on the format: frontal {}, lateral {}", describe(cameras[0]->format()),
-                  describe(cameras[1]->format()));
-    return 1;
-  }
   CameraRig rig = CameraRig::default_rig();
   const std::filesystem::path calibration = config.cameras.calibration;
   if (std::filesystem::exists(calibration)) {
@@ -162,23 +158,24 @@ int record(const RecordOptions& opts) {
                  calibration.string());
   }
 
-  auto writer = RecordingWriter::create(opts.out, cameras[0]->format(), cameras[0]->fps());
-  if (!writer) {
-    spdlog::error("{}", writer.error().message);
-    return 1;
-  }
-
-  std::atomic<bool> stopping{false};
-  auto stop_all = [&] {
-    stopping.store(true);
-    for (auto& c : cameras) c->stop();
-  };
-  // Before any thread starts, so that every thread inherits the blocked signals.
-  StopOnSignal on_signal(stop_all);
-
   // Pairing runs alongside only to report how the streams will pair on replay.
-  std::mutex mutex;  // writer, pairer
+  std::mutex mutex;  // pairer: frames come from the recorder's threads, edges from the trigger's
   sync::FramePairer pairer({.fps = cameras[0]->fps(), .triggered = config.trigger.mode != "free-run"});
+  RecorderOptions recorder_options;
+  recorder_options.frames = opts.frames;
+  recorder_options.seconds = opts.seconds;
+  recorder_options.notes = fmt::format("spinewatch record: frontal {}, lateral {}", paths[0], paths[1]);
+  recorder_options.write_calibration = [&rig](const std::filesystem::path& path) { return save_calibration(path, rig); };
+  recorder_options.on_frame = [&](View view, const Frame& frame) {
+    std::lock_guard lock(mutex);
+    pairer.push(static_cast<sync::Stream>(view), Frame(frame));
+    while (pairer.pop()) {
+    }
+  };
+  Recorder recorder(*cameras[0], *cameras[1], std::move(recorder_options));
+  // Before any thread starts, so that every thread inherits the blocked signals.
+  StopOnSignal on_signal([&recorder] { recorder.stop(); });
+
   Trigger trigger;
   auto started = start_trigger(config, trigger, [&](std::int64_t t) {
     std::lock_guard lock(mutex);
@@ -191,49 +188,19 @@ int record(const RecordOptions& opts) {
     return 1;
   }
 
-  std::atomic<bool> write_failed{false};
-  std::uint64_t written[2] = {0, 0};
-  const auto t0 = std::chrono::steady_clock::now();
-  auto capture = [&](int v) {
-    while (!stopping.load() && (!opts.frames || written[v] < *opts.frames)) {
-      if (opts.seconds && std::chrono::steady_clock::now() - t0 >= std::chrono::duration<double>(*opts.seconds)) break;
-      // Nothing on a timeout (the camera's watchdog logs a silent camera) or after stop().
-      auto frame = cameras[v]->next(std::chrono::milliseconds(200));
-      if (!frame) continue;
-      std::lock_guard lock(mutex);
-      if (auto w = writer->write(static_cast<View>(v), *frame); !w) {
-        spdlog::error("{}", w.error().message);
-        write_failed.store(true);
-        stop_all();
-        break;
-      }
-      ++written[v];
-      pairer.push(static_cast<sync::Stream>(v), std::move(*frame));
-      while (pairer.pop()) {
-      }
-    }
-  };
-  std::thread threads[2] = {std::thread(capture, 0), std::thread(capture, 1)};
-  for (auto& t : threads) t.join();
+  auto recorded = recorder.record(opts.out);
   trigger.stop();
   pairer.flush();
-
+  if (!recorded) {
+    spdlog::error("{}", recorded.error().message);
+    return 1;
+  }
   for (int v = 0; v < 2; ++v) {
-    const auto c = cameras[v]->counters();
-    spdlog::info("{}: {} frames written; dropped {} error, {} sequence gaps; {} restarts", names[v], written[v],
-                 c.dropped_error, c.dropped_gap, c.restarts);
+    const auto& c = recorded->counters[v];
+    spdlog::info("{}: {} frames written; dropped {} error, {} sequence gaps; {} restarts", names[v],
+                 recorded->written[v], c.dropped_error, c.dropped_gap, c.restarts);
   }
   spdlog::info("pairing: {}", pairer.stats().summary());
-  if (write_failed.load()) return 1;
-  const std::string notes = fmt::format("spinewatch record: frontal {}, lateral {}", paths[0], paths[1]);
-  if (auto finished = writer->finish(nullptr, notes); !finished) {
-    spdlog::error("{}", finished.error().message);
-    return 1;
-  }
-  if (auto saved = save_calibration(std::filesystem::path(opts.out) / "calibration.yaml", rig); !saved) {
-    spdlog::error("{}", saved.error().message);
-    return 1;
-  }
   spdlog::info("recorded to {}", opts.out);
   return 0;
 }

@@ -1,6 +1,7 @@
 // spinewatch replay: every frame pair of a recording, as fast as the machine
 // allows, to the NDJSON posture stream (interfaces.md §4).
 #include <memory>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -10,13 +11,15 @@
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
+#include "spinewatch/replay/overlay.hpp"
 #include "spinewatch/replay/replay.hpp"
 
 namespace spinewatch::cli {
 
 void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
-    std::string recording, out, config, calibration;
+    std::string recording, out, config, calibration, overlay;
+    std::uint64_t every = 1;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("replay", "Estimate the posture of every frame pair of a recording");
@@ -24,6 +27,11 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--out", opts->out, "NDJSON output file, - for standard output")->required();
   cmd->add_option("--config", opts->config, "station configuration (estimator settings); defaults otherwise");
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml instead of the recording's");
+  auto* overlay_option = cmd->add_option("--overlay", opts->overlay,
+                  "also write DIR/pair_<seq>.png: both views with silhouette outline, CVSM fit and vertebrae");
+  cmd->add_option("--every", opts->every, "with --overlay: draw every N-th pair (default 1)")
+      ->check(CLI::PositiveNumber)
+      ->needs(overlay_option);
   cmd->callback([opts, &exit_code] {
     ReplayOptions options;
     if (!opts->config.empty()) {
@@ -32,6 +40,13 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       options.estimator = estimator_options(*config);
     }
     options.calibration = opts->calibration;
+    std::optional<OverlayWriter> overlay;
+    if (!opts->overlay.empty()) {
+      auto writer = OverlayWriter::create(opts->overlay, opts->every);
+      if (!writer) return exit_code.fail(writer.error());
+      overlay.emplace(std::move(*writer));
+      options.observer = [&overlay](const ReplayedPair& p) { return overlay->write(p); };
+    }
     auto out = OutputFile::open(opts->out);
     if (!out) return exit_code.fail(out.error());
     ProgressBar bar("replay");
@@ -45,6 +60,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
     if (!stats) return exit_code.fail(stats.error());
     if (auto s = (*out)->commit(); !s) return exit_code.fail(s.error());
     spdlog::debug("replay: {} pairs, {} lost; {}", stats->pairs, stats->lost, stats->pairing.summary());
+    if (overlay) spdlog::info("replay: {} overlays in {}", overlay->written(), opts->overlay);
   });
 }
 

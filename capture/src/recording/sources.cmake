@@ -1,5 +1,5 @@
-# Recording directories: recording.json, the .raw size rule, reader, writer
-# and the paced/looping frame source.
+# Recording directories: recording.json, the .raw size rule, reader, writer,
+# the paced/looping frame source, and the recorder (cameras → directory).
 list(APPEND CAPTURE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/view.cpp
   ${CMAKE_CURRENT_LIST_DIR}/recording_json.cpp
@@ -7,4 +7,5 @@ list(APPEND CAPTURE_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/raw_layout.cpp
   ${CMAKE_CURRENT_LIST_DIR}/reader.cpp
   ${CMAKE_CURRENT_LIST_DIR}/writer.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/recording_source.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/recording_source.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/recorder.cpp)

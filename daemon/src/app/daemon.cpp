@@ -19,6 +19,7 @@
 #include "spinewatch/daemon/source_plan.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
+#include "spinewatch/sync/trigger_controller.hpp"
 
 namespace spinewatch {
 
@@ -60,6 +61,23 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
   return o;
 }
 
+// trigger.controller names the box's serial device: configure it for the
+// camera rate and pulse width and start it before the pipeline starts.
+Result<std::unique_ptr<sync::TriggerController>> start_trigger_controller(const Config& config) {
+  auto controller = sync::TriggerController::open(config.trigger.controller);
+  if (!controller) return controller.error();
+  auto& c = **controller;
+  auto version = c.version();
+  if (!version) return version.error();
+  if (auto s = c.configure({.rate_hz = config.cameras.fps, .width_us = config.trigger.pulse_us}); !s) return s.error();
+  if (auto s = c.start(); !s) return s.error();
+  auto status = c.status();
+  if (!status) return status.error();
+  spdlog::info("trigger controller {}: firmware {} (protocol {}); {}", c.device(), version->firmware,
+               version->protocol, sync::describe(*status));
+  return controller;
+}
+
 }  // namespace
 
 struct Daemon::Impl {
@@ -71,6 +89,8 @@ struct Daemon::Impl {
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
+  std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
+  std::string trigger_status;                                    // its last STATUS, or the error
 
   asio::io_context control;  // main thread: signals, timers, sd_notify
   std::atomic<bool> first_pair{false};
@@ -92,9 +112,26 @@ struct Daemon::Impl {
 
   std::string status_text(double rate) const {
     const auto s = stream_stats();
-    return fmt::format("{:.1f} pairs/s, {} pairs, {} dropped, {} frames lost, {} clients ({} dropped), {}", rate,
-                       s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
-                       to_string(static_cast<TrackingState>(last_state.load())));
+    std::string text = fmt::format("{:.1f} pairs/s, {} pairs, {} dropped, {} frames lost, {} clients ({} dropped), {}",
+                                   rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
+                                   to_string(static_cast<TrackingState>(last_state.load())));
+    if (trigger_controller) text += "; trigger " + trigger_status;
+    return text;
+  }
+
+  // Control thread, once a second: one STATUS round trip (~10 ms at 115200
+  // baud, at most the 500 ms reply timeout); a failure is logged when it starts.
+  void poll_trigger_controller() {
+    if (!trigger_controller) return;
+    auto status = trigger_controller->status();
+    const bool was_failing = trigger_status.rfind("error", 0) == 0;
+    if (status) {
+      if (was_failing) spdlog::info("trigger controller answers again");
+      trigger_status = sync::describe(*status);
+    } else {
+      if (!was_failing) spdlog::error("{}", status.error().message);
+      trigger_status = "error: " + status.error().message;
+    }
   }
 
   // On the estimator thread: encode and hand over; never blocks.
@@ -116,6 +153,7 @@ struct Daemon::Impl {
       const auto now = std::chrono::steady_clock::now();
       const std::uint64_t pairs = pipeline->stats().pairs_processed;
       const double seconds = std::chrono::duration<double>(now - last_status_time).count();
+      poll_trigger_controller();
       notifier.status(status_text(seconds > 0 ? static_cast<double>(pairs - pairs_at_last_status) / seconds : 0.0));
       pairs_at_last_status = pairs;
       last_status_time = now;
@@ -197,7 +235,8 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto plan = plan_source(d.config);
   if (!plan) return plan.error();
   spdlog::info("source: {}", plan->why);
-  if (plan->kind == SourcePlan::Kind::Cameras && d.config.cameras.source == "libcamera")
+  const bool use_libcamera = plan->kind == SourcePlan::Kind::Cameras && d.config.cameras.source == "libcamera";
+  if (use_libcamera && !libcamera_built())
     return Error{"cameras.source = \"libcamera\": not available in this build; use \"v4l2\""};
   if (plan->embedded)
     spdlog::info("running the embedded default: phantom recording {} replayed in a loop at its recorded rate",
@@ -207,7 +246,8 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   if (!rig) return rig.error();
   d.rig = *rig;
 
-  auto source = plan->kind == SourcePlan::Kind::Cameras
+  auto source = use_libcamera ? open_libcamera_pair_source(d.config)
+                : plan->kind == SourcePlan::Kind::Cameras
                     ? open_camera_pair_source(camera_pair_options(d.config))
                     : open_recording_pair_source(plan->recording, {.paced = plan->paced, .loop = true});
   if (!source) return source.error();
@@ -221,6 +261,13 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   d.publisher = std::move(publisher).value();
   if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());
   if (options->unix_socket) spdlog::info("publishing on unix socket {}", options->unix_socket->string());
+
+  if (!d.config.trigger.controller.empty()) {
+    auto controller = start_trigger_controller(d.config);
+    if (!controller) return controller.error();
+    d.trigger_controller = std::move(controller).value();
+    d.poll_trigger_controller();
+  }
 
   auto estimator = std::make_shared<PostureEstimator>(d.rig, estimator_options(d.config));
   d.pipeline = std::make_unique<Pipeline>(

@@ -18,13 +18,14 @@ Frame detached(const Frame& frame) { return Frame::copy_of(frame.format(), frame
 
 class CameraPairSource final : public PairSource {
  public:
-  CameraPairSource(const CameraPairOptions& options, std::shared_ptr<V4l2Device> frontal,
-                   std::shared_ptr<V4l2Device> lateral)
-      : ready_limit_(options.ready_pairs == 0 ? 1 : options.ready_pairs),
-        pairer_(sync::PairerOptions{.fps = options.frontal.fps}),
-        description_(fmt::format("v4l2 {} {}", options.frontal.path, options.lateral.path)) {
-    cameras_[0] = std::make_unique<V4l2Camera>(options.frontal, std::move(frontal));
-    cameras_[1] = std::make_unique<V4l2Camera>(options.lateral, std::move(lateral));
+  // Any Camera: V4L2 or libcamera.
+  CameraPairSource(std::unique_ptr<Camera> frontal, std::unique_ptr<Camera> lateral, double fps,
+                   std::size_t ready_pairs, std::string description)
+      : ready_limit_(ready_pairs == 0 ? 1 : ready_pairs),
+        pairer_(sync::PairerOptions{.fps = fps}),
+        description_(std::move(description)) {
+    cameras_[0] = std::move(frontal);
+    cameras_[1] = std::move(lateral);
   }
   ~CameraPairSource() override { stop(); }
 
@@ -92,7 +93,7 @@ class CameraPairSource final : public PairSource {
   }
 
   const std::size_t ready_limit_;
-  std::unique_ptr<V4l2Camera> cameras_[2];
+  std::unique_ptr<Camera> cameras_[2];
   mutable std::mutex mutex_;
   std::condition_variable ready_cv_;
   sync::FramePairer pairer_;
@@ -126,7 +127,28 @@ CameraPairOptions camera_pair_options(const Config& config) {
 Result<std::unique_ptr<PairSource>> open_camera_pair_source(const CameraPairOptions& options,
                                                             std::shared_ptr<V4l2Device> frontal,
                                                             std::shared_ptr<V4l2Device> lateral) {
-  auto source = std::make_unique<CameraPairSource>(options, std::move(frontal), std::move(lateral));
+  auto source = std::make_unique<CameraPairSource>(
+      std::make_unique<V4l2Camera>(options.frontal, std::move(frontal)),
+      std::make_unique<V4l2Camera>(options.lateral, std::move(lateral)), options.frontal.fps, options.ready_pairs,
+      fmt::format("v4l2 {} {}", options.frontal.path, options.lateral.path));
+  if (auto started = source->start(); !started) return started.error();
+  return std::unique_ptr<PairSource>(std::move(source));
+}
+
+Result<std::unique_ptr<PairSource>> open_libcamera_pair_source(const Config& config) {
+  const CameraPairOptions v4l2 = camera_pair_options(config);
+  auto camera = [](const V4l2CameraOptions& o) {
+    return LibcameraCamera::open({.id = o.path, .name = o.name, .pixel_format = o.pixel_format, .width = o.width,
+                                  .height = o.height, .fps = o.fps, .exposure_us = o.exposure_us, .gain = o.gain,
+                                  .buffers = o.buffers});
+  };
+  auto frontal = camera(v4l2.frontal);
+  if (!frontal) return frontal.error();
+  auto lateral = camera(v4l2.lateral);
+  if (!lateral) return lateral.error();
+  auto source = std::make_unique<CameraPairSource>(
+      std::move(frontal).value(), std::move(lateral).value(), v4l2.frontal.fps, v4l2.ready_pairs,
+      fmt::format("libcamera \"{}\" \"{}\"", v4l2.frontal.path, v4l2.lateral.path));
   if (auto started = source->start(); !started) return started.error();
   return std::unique_ptr<PairSource>(std::move(source));
 }

@@ -63,6 +63,7 @@ const std::vector<Key>& keys() {
 
       string_key("cameras.source", [](Config& c) -> std::string& { return c.cameras.source; },
                  {"auto", "v4l2", "libcamera", "recording"}),
+      // V4L2 device nodes, or libcamera camera ids when cameras.source = "libcamera".
       string_key("cameras.frontal", [](Config& c) -> std::string& { return c.cameras.frontal; }),
       string_key("cameras.lateral", [](Config& c) -> std::string& { return c.cameras.lateral; }),
       string_key("cameras.pixel_format", [](Config& c) -> std::string& { return c.cameras.pixel_format; },

@@ -69,6 +69,10 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
       ++stats.pairs;
       if (posture.state == TrackingState::Lost) ++stats.lost;
       if (auto s = sink(posture); !s) return s.error();
+      if (options.observer) {
+        const EstimatorTrace trace = estimator.last_trace();
+        if (auto s = options.observer(ReplayedPair{*pair, posture, trace, *rig}); !s) return s.error();
+      }
       ++state.pairs_done;
       if (progress) progress(state);
     }

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "spinewatch/capture/camera.hpp"
 #include "spinewatch/capture/v4l2_device.hpp"
 #include "spinewatch/frames/frame.hpp"
 #include "spinewatch/frames/result.hpp"
@@ -38,16 +39,7 @@ struct V4l2CameraOptions {
   std::chrono::milliseconds retry_max{4000};
 };
 
-// Read from any thread.
-struct CameraCounters {
-  std::uint64_t frames = 0;         // delivered to the caller
-  std::uint64_t dropped_error = 0;  // V4L2_BUF_FLAG_ERROR or short frames
-  std::uint64_t dropped_gap = 0;    // gaps in the driver's sequence numbers
-  std::uint64_t restarts = 0;       // reopened after a device loss
-  std::uint64_t stalls = 0;         // watchdog reports
-};
-
-class V4l2Camera {
+class V4l2Camera final : public Camera {
  public:
   explicit V4l2Camera(V4l2CameraOptions options, std::shared_ptr<V4l2Device> device = system_v4l2_device());
   ~V4l2Camera();
@@ -56,20 +48,20 @@ class V4l2Camera {
 
   // Opens, configures and starts streaming. The error names the device and
   // the problem; control the driver lacks are warnings only.
-  Status start();
+  Status start() override;
   // The next frame in driver order; nothing on timeout or once stopped
   // (a negative timeout waits until a frame comes or stop()).
   // Called from one thread. Device loss and recovery happen inside.
-  std::optional<Frame> next(std::chrono::milliseconds timeout);
+  std::optional<Frame> next(std::chrono::milliseconds timeout) override;
   // From any thread: wakes next() and makes it return nothing from now on.
-  void stop();
+  void stop() override;
 
-  CameraCounters counters() const;
-  FrameFormat format() const;  // as negotiated with the driver
-  double fps() const;          // as the driver reported it
+  CameraCounters counters() const override;
+  FrameFormat format() const override;  // as negotiated with the driver
+  double fps() const override;          // as the driver reported it
   bool streaming() const { return streaming_.load(); }
   bool stalled() const { return stalled_.load(); }
-  const std::string& name() const { return name_; }
+  const std::string& name() const override { return name_; }
 
  private:
   Status open_session();

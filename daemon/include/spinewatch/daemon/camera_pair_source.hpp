@@ -1,8 +1,9 @@
 #pragma once
-// Frame pairs from the two V4L2 cameras: one capture thread per camera
+// Frame pairs from the two cameras (V4L2 or libcamera): one capture thread per camera
 // feeds the free-run pairer; pairs wait in a short queue for the pipeline.
 #include <memory>
 
+#include "spinewatch/capture/libcamera_camera.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/pair_source.hpp"
@@ -20,5 +21,10 @@ CameraPairOptions camera_pair_options(const Config& config);
 Result<std::unique_ptr<PairSource>> open_camera_pair_source(const CameraPairOptions& options,
                                                             std::shared_ptr<V4l2Device> frontal = system_v4l2_device(),
                                                             std::shared_ptr<V4l2Device> lateral = system_v4l2_device());
+
+// The same over two libcamera cameras (cameras.source = "libcamera"):
+// cameras.frontal and cameras.lateral are libcamera camera ids. Without
+// libcamera in the build, an error saying so.
+Result<std::unique_ptr<PairSource>> open_libcamera_pair_source(const Config& config);
 
 }  // namespace spinewatch

@@ -19,7 +19,7 @@ struct Config {
 
   struct Cameras {
     std::string source = "auto";  // auto | v4l2 | libcamera | recording
-    std::string frontal = "/dev/video0";
+    std::string frontal = "/dev/video0";  // V4L2 node, or a libcamera id when source = "libcamera"
     std::string lateral = "/dev/video2";
     std::string pixel_format = "YUYV";
     int width = 320;

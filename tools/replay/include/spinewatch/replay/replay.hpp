@@ -12,6 +12,16 @@
 
 namespace spinewatch {
 
+// One processed pair with everything an observer (the overlay writer) may
+// want to draw; references are valid only during the call.
+struct ReplayedPair {
+  const FramePair& pair;
+  const Posture& posture;
+  const EstimatorTrace& trace;
+  const CameraRig& rig;
+};
+using PairObserver = std::function<Status(const ReplayedPair&)>;
+
 struct ReplayOptions {
   EstimatorOptions estimator;
   // calibration.yaml to use instead of DIR/calibration.yaml.
@@ -19,6 +29,8 @@ struct ReplayOptions {
   // Empty-scene images for estimator.background = "image"; empty paths mean
   // DIR/background_frontal.png and DIR/background_lateral.png.
   std::filesystem::path background_frontal, background_lateral;
+  // Called after every pair, after its latency is measured; an error stops the replay.
+  PairObserver observer;
 };
 
 struct ReplayStats {
