@@ -23,9 +23,7 @@
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/sync/frame_pairer.hpp"
-#include "spinewatch/sync/gpiod_trigger_line.hpp"
-#include "spinewatch/sync/trigger_master.hpp"
-#include "spinewatch/sync/trigger_slave.hpp"
+#include "spinewatch/sync/trigger_source.hpp"
 
 namespace spinewatch::cli {
 namespace {
@@ -53,35 +51,6 @@ V4l2CameraOptions camera_options(const Config::Cameras& c, PixelFormat format, c
   o.buffers = static_cast<unsigned>(c.buffers);
   o.watchdog_s = c.watchdog_s;
   return o;
-}
-
-// The trigger of the configured mode, feeding edges to `on_edge`.
-struct Trigger {
-  std::unique_ptr<sync::TriggerOutputLine> output;
-  std::unique_ptr<sync::TriggerInputLine> input;
-  std::unique_ptr<sync::TriggerMaster> master;
-  std::unique_ptr<sync::TriggerSlave> slave;
-  void stop() {
-    if (master) master->stop();
-    if (slave) slave->stop();
-  }
-};
-
-Status start_trigger(const Config& config, Trigger& trigger, std::function<void(std::int64_t)> on_edge) {
-  const auto& t = config.trigger;
-  if (t.mode == "master") {
-    auto line = sync::open_gpiod_output(t.chip, static_cast<unsigned>(t.line), "spinewatch-record");
-    if (!line) return line.error();
-    trigger.output = std::move(line.value());
-    trigger.master = std::make_unique<sync::TriggerMaster>(
-        *trigger.output, sync::TriggerMasterOptions{.fps = config.cameras.fps, .pulse_us = t.pulse_us}, on_edge);
-  } else if (t.mode == "slave") {
-    auto line = sync::open_gpiod_input(t.chip, static_cast<unsigned>(t.line), "spinewatch-record");
-    if (!line) return line.error();
-    trigger.input = std::move(line.value());
-    trigger.slave = std::make_unique<sync::TriggerSlave>(*trigger.input, on_edge);
-  }
-  return Ok{};
 }
 
 // SIGINT/SIGTERM end the recording cleanly: a thread waits for them (they
@@ -168,7 +137,8 @@ int record(const RecordOptions& opts) {
   recorder_options.write_calibration = [&rig](const std::filesystem::path& path) { return save_calibration(path, rig); };
   recorder_options.on_frame = [&](View view, const Frame& frame) {
     std::lock_guard lock(mutex);
-    pairer.push(static_cast<sync::Stream>(view), Frame(frame));
+    // A copy: a frame waiting in the pairer must not hold the driver's buffer.
+    pairer.push(static_cast<sync::Stream>(view), Frame::copy_of(frame.format(), frame.info(), frame.bytes()));
     while (pairer.pop()) {
     }
   };
@@ -176,20 +146,22 @@ int record(const RecordOptions& opts) {
   // Before any thread starts, so that every thread inherits the blocked signals.
   StopOnSignal on_signal([&recorder] { recorder.stop(); });
 
-  Trigger trigger;
-  auto started = start_trigger(config, trigger, [&](std::int64_t t) {
-    std::lock_guard lock(mutex);
-    pairer.push_trigger(t);
-    while (pairer.pop()) {
-    }
-  });
-  if (!started) {
-    spdlog::error("{}", started.error().message);
+  auto trigger = sync::TriggerSource::open(
+      {.mode = config.trigger.mode, .chip = config.trigger.chip, .line = static_cast<unsigned>(config.trigger.line),
+       .fps = config.cameras.fps, .pulse_us = config.trigger.pulse_us, .consumer = "spinewatch-record"},
+      [&](std::int64_t t) {
+        std::lock_guard lock(mutex);
+        pairer.push_trigger(t);
+        while (pairer.pop()) {
+        }
+      });
+  if (!trigger) {
+    spdlog::error("{}", trigger.error().message);
     return 1;
   }
 
   auto recorded = recorder.record(opts.out);
-  trigger.stop();
+  if (*trigger) (*trigger)->stop();
   pairer.flush();
   if (!recorded) {
     spdlog::error("{}", recorded.error().message);

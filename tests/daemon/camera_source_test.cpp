@@ -1,9 +1,15 @@
+#include <algorithm>
+#include <mutex>
+#include <thread>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/capture/fake_v4l2_device.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
+#include "spinewatch/sync/fake_trigger_line.hpp"
 
 namespace spinewatch {
 namespace {
@@ -86,6 +92,93 @@ TEST(CameraPairSource, StopWakesABlockedNext) {
   }
   EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
   stopper.join();
+}
+
+// Edges the trigger reported, as the test saw them.
+struct EdgeLog {
+  std::mutex mutex;
+  std::vector<std::int64_t> edges;
+  bool contains(std::int64_t t) {
+    std::lock_guard lock(mutex);
+    return std::find(edges.begin(), edges.end(), t) != edges.end();
+  }
+};
+
+TEST(CameraPairSource, MasterModePairsFramesToTheEdgesItDrives) {
+  auto o = fake_options();
+  o.trigger.mode = "master";
+  EdgeLog log;
+  sync::FakeTriggerLine* line = nullptr;
+  TriggerFactory factory = [&](sync::TriggerSource::EdgeCallback on_edge) -> Result<std::unique_ptr<sync::TriggerSource>> {
+    auto fake = std::make_unique<sync::FakeTriggerLine>();
+    line = fake.get();
+    return sync::TriggerSource::master(std::move(fake), {.fps = 30.0, .pulse_us = 1000, .realtime_priority = 0},
+                                       [&log, on_edge](std::int64_t t) {
+                                         {
+                                           std::lock_guard lock(log.mutex);
+                                           log.edges.push_back(t);
+                                         }
+                                         on_edge(t);
+                                       });
+  };
+  auto source = open_camera_pair_source(o, fake_camera("/dev/video-front"), fake_camera("/dev/video-side"), factory);
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  for (int i = 0; i < 6; ++i) {
+    auto pair = (*source)->next();
+    ASSERT_TRUE(pair);
+    // Triggered: the pair carries its edge's time, and both frames lie
+    // within half a period of it.
+    EXPECT_TRUE(log.contains(pair->timestamp_ns)) << pair->timestamp_ns;
+    EXPECT_LE(std::llabs(pair->frontal.timestamp_ns() - pair->timestamp_ns), 16'666'667);
+    EXPECT_LE(std::llabs(pair->lateral.timestamp_ns() - pair->timestamp_ns), 16'666'667);
+  }
+  (*source)->stop();
+  ASSERT_NE(line, nullptr);
+  EXPECT_GE(line->transitions().size(), 12u);  // the master drove the line: high and low per edge
+}
+
+TEST(CameraPairSource, SlaveModeWithoutEdgesPairsNothingAndCountsTheFrames) {
+  auto o = fake_options();
+  o.trigger.mode = "slave";
+  TriggerFactory factory = [](sync::TriggerSource::EdgeCallback on_edge) -> Result<std::unique_ptr<sync::TriggerSource>> {
+    return sync::TriggerSource::slave(std::make_unique<sync::FakeTriggerLine>(), std::move(on_edge));
+  };
+  auto source = open_camera_pair_source(o, fake_camera("/dev/video-front"), fake_camera("/dev/video-side"), factory);
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  // Long enough for more frames than the pairer holds while waiting (16).
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(900ms);
+    (*source)->stop();
+  });
+  EXPECT_FALSE((*source)->next());  // no edge, no pair: frames are never paired with each other
+  stopper.join();
+  EXPECT_GT((*source)->stats().frames, 0u);
+  EXPECT_GT((*source)->stats().frames_lost, 0u);
+}
+
+TEST(CameraPairSource, TriggerModeFromTheConfig) {
+  Config config;
+  config.trigger.mode = "slave";
+  config.trigger.frame_latency_us = 1500;
+  const CameraPairOptions o = camera_pair_options(config);
+  EXPECT_EQ(o.trigger.mode, "slave");
+  EXPECT_EQ(o.trigger.chip, config.trigger.chip);
+  EXPECT_EQ(o.frame_latency_ns, 1'500'000);
+  // A GPIO chip that does not exist is an error naming it, not a hang.
+  config.trigger.chip = "gpiochip-absent";
+  auto source = open_camera_pair_source(camera_pair_options(config), fake_camera(config.cameras.frontal),
+                                        fake_camera(config.cameras.lateral));
+  ASSERT_FALSE(source.ok());
+  EXPECT_NE(source.error().message.find("gpiochip-absent"), std::string::npos) << source.error().message;
+}
+
+TEST(TriggerSource, FreeRunHasNoneAndAnUnknownModeIsAnError) {
+  auto none = sync::TriggerSource::open({.mode = "free-run"}, [](std::int64_t) {});
+  ASSERT_TRUE(none.ok());
+  EXPECT_EQ(none->get(), nullptr);
+  auto bad = sync::TriggerSource::open({.mode = "sometimes"}, [](std::int64_t) {});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("sometimes"), std::string::npos);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ const std::vector<Field>& fields() {
       SW_FIELD(cameras, buffers), SW_FIELD(cameras, calibration), SW_FIELD(cameras, recording), SW_FIELD(cameras, replay),
       SW_FIELD(cameras, watchdog_s),
       SW_FIELD(trigger, mode), SW_FIELD(trigger, chip), SW_FIELD(trigger, line),
-      SW_FIELD(trigger, pulse_us), SW_FIELD(trigger, controller),
+      SW_FIELD(trigger, pulse_us), SW_FIELD(trigger, frame_latency_us), SW_FIELD(trigger, controller),
       SW_FIELD(silhouette, background), SW_FIELD(silhouette, learn_frames), SW_FIELD(silhouette, threshold),
       SW_FIELD(silhouette, min_blob_px), SW_FIELD(silhouette, background_frontal),
       SW_FIELD(silhouette, background_lateral),

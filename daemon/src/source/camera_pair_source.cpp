@@ -12,24 +12,37 @@
 namespace spinewatch {
 namespace {
 
-// Pairs leave holding copies, not the V4L2 buffers: the pipeline may hold a
-// few pairs, and a camera with 4 mmap buffers must never wait for them.
+// Frames wait in the pairer and pairs in the queue as copies, not as the
+// driver's buffers: a camera with 4 mmap buffers must never wait for a
+// partner that stalls, a trigger that stopped or a busy pipeline (the
+// pairer may hold 16 frames per camera).
 Frame detached(const Frame& frame) { return Frame::copy_of(frame.format(), frame.info(), frame.bytes()); }
 
 class CameraPairSource final : public PairSource {
  public:
   // Any Camera: V4L2 or libcamera.
-  CameraPairSource(std::unique_ptr<Camera> frontal, std::unique_ptr<Camera> lateral, double fps,
+  CameraPairSource(std::unique_ptr<Camera> frontal, std::unique_ptr<Camera> lateral, sync::PairerOptions pairing,
                    std::size_t ready_pairs, std::string description)
       : ready_limit_(ready_pairs == 0 ? 1 : ready_pairs),
-        pairer_(sync::PairerOptions{.fps = fps}),
+        pairer_(pairing),
         description_(std::move(description)) {
     cameras_[0] = std::move(frontal);
     cameras_[1] = std::move(lateral);
   }
   ~CameraPairSource() override { stop(); }
 
-  Status start() {
+  // The trigger starts first, so the first frames find their edges.
+  Status start(const TriggerFactory& make_trigger) {
+    if (make_trigger) {
+      auto trigger = make_trigger([this](std::int64_t edge_ns) {
+        std::lock_guard lock(mutex_);
+        if (stopped_) return;
+        pairer_.push_trigger(edge_ns);
+        queue_pairs();
+      });
+      if (!trigger) return trigger.error();
+      trigger_ = std::move(trigger).value();
+    }
     for (auto& camera : cameras_)
       if (auto started = camera->start(); !started) return started;
     for (int i = 0; i < 2; ++i) threads_[i] = std::jthread([this, i] { capture(i); });
@@ -51,6 +64,7 @@ class CameraPairSource final : public PairSource {
       if (stopped_) return;
       stopped_ = true;
     }
+    if (trigger_) trigger_->stop();
     for (auto& camera : cameras_) camera->stop();
     ready_cv_.notify_all();
     for (auto& t : threads_)
@@ -76,19 +90,24 @@ class CameraPairSource final : public PairSource {
     for (;;) {
       auto frame = camera.next(std::chrono::milliseconds(-1));
       if (!frame) return;  // stopped
+      Frame copy = detached(*frame);
+      frame.reset();  // the buffer goes back to the driver now
       std::lock_guard lock(mutex_);
       if (stopped_) return;
-      pairer_.push(static_cast<sync::Stream>(index), std::move(*frame));
-      while (auto pair = pairer_.pop()) {
-        pair->frontal = detached(pair->frontal);
-        pair->lateral = detached(pair->lateral);
-        if (ready_.size() >= ready_limit_) {
-          ready_.pop_front();
-          ++pairs_overflowed_;
-        }
-        ready_.push_back(std::move(*pair));
-        ready_cv_.notify_one();
+      pairer_.push(static_cast<sync::Stream>(index), std::move(copy));
+      queue_pairs();
+    }
+  }
+
+  // With mutex_ held.
+  void queue_pairs() {
+    while (auto pair = pairer_.pop()) {
+      if (ready_.size() >= ready_limit_) {
+        ready_.pop_front();
+        ++pairs_overflowed_;
       }
+      ready_.push_back(std::move(*pair));
+      ready_cv_.notify_one();
     }
   }
 
@@ -101,8 +120,22 @@ class CameraPairSource final : public PairSource {
   std::uint64_t pairs_overflowed_ = 0;
   bool stopped_ = false;
   std::string description_;
+  std::unique_ptr<sync::TriggerSource> trigger_;  // null in free-run
   std::jthread threads_[2];
 };
+
+sync::PairerOptions pairing_of(const CameraPairOptions& options) {
+  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != "free-run"};
+  p.frame_latency_ns[0] = p.frame_latency_ns[1] = options.frame_latency_ns;
+  return p;
+}
+
+TriggerFactory default_trigger(const CameraPairOptions& options) {
+  if (options.trigger.mode == "free-run") return {};
+  return [trigger = options.trigger](sync::TriggerSource::EdgeCallback on_edge) {
+    return sync::TriggerSource::open(trigger, std::move(on_edge));
+  };
+}
 
 }  // namespace
 
@@ -121,17 +154,26 @@ CameraPairOptions camera_pair_options(const Config& config) {
     o.watchdog_s = config.cameras.watchdog_s;
     return o;
   };
-  return {camera(config.cameras.frontal, "frontal"), camera(config.cameras.lateral, "lateral")};
+  CameraPairOptions options;
+  options.frontal = camera(config.cameras.frontal, "frontal");
+  options.lateral = camera(config.cameras.lateral, "lateral");
+  options.trigger = {.mode = config.trigger.mode, .chip = config.trigger.chip,
+                     .line = static_cast<unsigned>(config.trigger.line), .fps = config.cameras.fps,
+                     .pulse_us = config.trigger.pulse_us, .consumer = "spinewatchd"};
+  options.frame_latency_ns = std::int64_t{config.trigger.frame_latency_us} * 1000;
+  return options;
 }
 
 Result<std::unique_ptr<PairSource>> open_camera_pair_source(const CameraPairOptions& options,
                                                             std::shared_ptr<V4l2Device> frontal,
-                                                            std::shared_ptr<V4l2Device> lateral) {
+                                                            std::shared_ptr<V4l2Device> lateral,
+                                                            TriggerFactory make_trigger) {
   auto source = std::make_unique<CameraPairSource>(
       std::make_unique<V4l2Camera>(options.frontal, std::move(frontal)),
-      std::make_unique<V4l2Camera>(options.lateral, std::move(lateral)), options.frontal.fps, options.ready_pairs,
+      std::make_unique<V4l2Camera>(options.lateral, std::move(lateral)), pairing_of(options), options.ready_pairs,
       fmt::format("v4l2 {} {}", options.frontal.path, options.lateral.path));
-  if (auto started = source->start(); !started) return started.error();
+  if (auto started = source->start(make_trigger ? make_trigger : default_trigger(options)); !started)
+    return started.error();
   return std::unique_ptr<PairSource>(std::move(source));
 }
 
@@ -147,9 +189,9 @@ Result<std::unique_ptr<PairSource>> open_libcamera_pair_source(const Config& con
   auto lateral = camera(v4l2.lateral);
   if (!lateral) return lateral.error();
   auto source = std::make_unique<CameraPairSource>(
-      std::move(frontal).value(), std::move(lateral).value(), v4l2.frontal.fps, v4l2.ready_pairs,
+      std::move(frontal).value(), std::move(lateral).value(), pairing_of(v4l2), v4l2.ready_pairs,
       fmt::format("libcamera \"{}\" \"{}\"", v4l2.frontal.path, v4l2.lateral.path));
-  if (auto started = source->start(); !started) return started.error();
+  if (auto started = source->start(default_trigger(v4l2)); !started) return started.error();
   return std::unique_ptr<PairSource>(std::move(source));
 }
 

@@ -84,6 +84,7 @@ const std::vector<Key>& keys() {
       string_key("trigger.chip", [](Config& c) -> std::string& { return c.trigger.chip; }),
       int_key("trigger.line", [](Config& c) -> int& { return c.trigger.line; }, {0, 1023}),
       int_key("trigger.pulse_us", [](Config& c) -> int& { return c.trigger.pulse_us; }, {20, 100000}),
+      int_key("trigger.frame_latency_us", [](Config& c) -> int& { return c.trigger.frame_latency_us; }, {0, 100000}),
       string_key("trigger.controller", [](Config& c) -> std::string& { return c.trigger.controller; }),
 
       string_key("silhouette.background", [](Config& c) -> std::string& { return c.silhouette.background; },

@@ -22,7 +22,12 @@ std::string PairingStats::summary() const {
     out += fmt::format("; {} in {} unmatched {} duplicate {} late {} overflow {} flushed {} seq-gaps {}", names[s],
                        frames_in[s], d.unmatched, d.duplicate, d.late, d.overflow, d.flushed, d.sequence_gaps);
   }
-  if (triggers_in > 0) out += fmt::format("; triggers {} unpaired {}", triggers_in, triggers_unpaired);
+  if (triggers_in > 0) {
+    out += fmt::format("; triggers {} unpaired {}", triggers_in, triggers_unpaired);
+    // What trigger.frame_latency_us should absorb (docs/hardware.md).
+    for (int s = 0; s < 2; ++s)
+      out += fmt::format("; {} frame − edge mean {:.3f} ms", names[s], trigger_skew[s].mean_ns / 1e6);
+  }
   return out;
 }
 

@@ -40,6 +40,7 @@ struct Config {
     std::string chip = "gpiochip0";
     int line = 17;
     int pulse_us = 1000;
+    int frame_latency_us = 0;  // trigger edge → frame timestamp, both cameras
     std::string controller = "";  // serial device of the trigger controller, "" for none
     bool operator==(const Trigger&) const = default;
   } trigger;
