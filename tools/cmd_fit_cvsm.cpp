@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "output_file.hpp"
 #include "spinewatch/estimator/cvsm/template_fit.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/phantom/phantom.hpp"
@@ -84,10 +85,8 @@ int run_fit(const std::string& subject_path, const std::string& model_path, cons
   const TemplateFit fit = fit_cvsm_template(CameraRig::default_rig(), *start, *samples);
   spdlog::info("fit-cvsm: {} frame pairs, XOR {} → {} px ({} evaluations)", samples->size(), fit.xor_before,
                fit.xor_after, fit.evaluations);
-  std::ofstream out(out_path, std::ios::trunc);
-  out << rewrite_cvsm_values(text, fit.spec);
-  if (!out) {
-    spdlog::error("{}: cannot write", out_path);
+  if (auto written = write_output(out_path, rewrite_cvsm_values(text, fit.spec)); !written) {
+    spdlog::error("{}", written.error().message);
     return 1;
   }
   return 0;

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "output_file.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 #include "spinewatch/estimator/spine/stiffness_fit.hpp"
 
@@ -49,10 +50,8 @@ int run_fit(const std::vector<std::string>& truth, const std::string& subject, d
   const FitResult result = fit_bending_scales(*model, DynamicsOptions{}, sequences, fit);
   spdlog::info("fit-spine: mean vertebra error {:.2f} mm → {:.2f} mm ({} evaluations)", result.initial_error_mm,
                result.final_error_mm, result.evaluations);
-  std::ofstream out(out_path, std::ios::trunc);
-  out << stiffness_fragment(result);
-  if (!out) {
-    spdlog::error("{}: cannot write", out_path);
+  if (auto written = write_output(out_path, stiffness_fragment(result)); !written) {
+    spdlog::error("{}", written.error().message);
     return 1;
   }
   return 0;

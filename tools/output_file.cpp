@@ -42,4 +42,11 @@ Status OutputFile::commit() {
   return Ok{};
 }
 
+Status write_output(const std::string& target, std::string_view text) {
+  auto out = OutputFile::open(target);
+  if (!out) return out.error();
+  (*out)->stream() << text;
+  return (*out)->commit();
+}
+
 }  // namespace spinewatch::cli

@@ -7,6 +7,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 #include "spinewatch/frames/result.hpp"
 
@@ -27,5 +28,8 @@ class OutputFile {
   std::ostream* out_ = nullptr;
   bool committed_ = false;
 };
+
+// The whole of `text` into FILE (or standard output for "-"), all or nothing.
+Status write_output(const std::string& target, std::string_view text);
 
 }  // namespace spinewatch::cli
