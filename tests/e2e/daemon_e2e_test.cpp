@@ -237,6 +237,25 @@ TEST_F(DaemonE2E, NotifiesReadyStatusWatchdogAndStopping) {
   EXPECT_NE(status->find("clients"), std::string::npos) << *status;
 }
 
+TEST_F(DaemonE2E, AMissingTriggerControllerIsLoggedAndTheDaemonRunsOn) {
+  const auto rec = make_recording(10);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() +
+                                   "\"\n[trigger]\ncontroller = \"/nonexistent/ttyUSB9\"\n");
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+                       dir / "daemon.log");
+  ASSERT_TRUE(test::eventually([&] { return daemon.log().find("ready") != std::string::npos; }, 10s)) << daemon.log();
+  std::this_thread::sleep_for(1500ms);  // status ticks: no second message while it keeps failing
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  const std::string log = daemon.log();
+  // One error line naming the device; the status lines carry it too.
+  const std::string error = "trigger controller /nonexistent/ttyUSB9: cannot open: No such file or directory (retrying every 5 s)";
+  const auto first = log.find(error);
+  ASSERT_NE(first, std::string::npos) << log;
+  EXPECT_EQ(log.find(error, first + 1), std::string::npos) << "logged once: " << log;
+  EXPECT_NE(log.find("trigger error: trigger controller /nonexistent/ttyUSB9"), std::string::npos) << log;
+}
+
 // Under a sanitizer the run is shorter (and RSS includes shadow memory).
 #if defined(__SANITIZE_ADDRESS__)
 constexpr std::uint64_t kMemoryEarly = 500, kMemoryLate = 3000;

@@ -115,21 +115,41 @@ struct Daemon::Impl {
     std::string text = fmt::format("{:.1f} pairs/s, {} pairs, {} dropped, {} frames lost, {} clients ({} dropped), {}",
                                    rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
                                    to_string(static_cast<TrackingState>(last_state.load())));
-    if (trigger_controller) text += "; trigger " + trigger_status;
+    if (!config.trigger.controller.empty()) text += "; trigger " + trigger_status;
     return text;
   }
 
   // Control thread, once a second: one STATUS round trip (~10 ms at 115200
-  // baud, at most the 500 ms reply timeout); a failure is logged when it starts.
+  // baud, at most the 500 ms reply timeout); a failure is logged when it
+  // starts. A controller that could not be opened or set up (unplugged,
+  // still booting) is tried again every kTriggerRetry; the daemon runs on
+  // meanwhile, its status saying why there are no pairs.
+  static constexpr std::chrono::seconds kTriggerRetry{5};
+  std::chrono::steady_clock::time_point next_trigger_attempt{};
   void poll_trigger_controller() {
-    if (!trigger_controller) return;
-    auto status = trigger_controller->status();
+    if (config.trigger.controller.empty()) return;
     const bool was_failing = trigger_status.rfind("error", 0) == 0;
+    if (!trigger_controller) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now < next_trigger_attempt) return;
+      next_trigger_attempt = now + kTriggerRetry;
+      auto controller = start_trigger_controller(config);
+      if (!controller) {
+        if (!was_failing) spdlog::error("{} (retrying every {} s)", controller.error().message, kTriggerRetry.count());
+        trigger_status = "error: " + controller.error().message;
+        return;
+      }
+      if (was_failing) spdlog::info("trigger controller {} set up", config.trigger.controller);
+      trigger_controller = std::move(controller).value();
+      trigger_status.clear();
+    }
+    const bool failing = trigger_status.rfind("error", 0) == 0;
+    auto status = trigger_controller->status();
     if (status) {
-      if (was_failing) spdlog::info("trigger controller answers again");
+      if (failing) spdlog::info("trigger controller answers again");
       trigger_status = sync::describe(*status);
     } else {
-      if (!was_failing) spdlog::error("{}", status.error().message);
+      if (!failing) spdlog::error("{}", status.error().message);
       trigger_status = "error: " + status.error().message;
     }
   }
@@ -262,12 +282,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());
   if (options->unix_socket) spdlog::info("publishing on unix socket {}", options->unix_socket->string());
 
-  if (!d.config.trigger.controller.empty()) {
-    auto controller = start_trigger_controller(d.config);
-    if (!controller) return controller.error();
-    d.trigger_controller = std::move(controller).value();
-    d.poll_trigger_controller();
-  }
+  d.poll_trigger_controller();  // trigger.controller: set up now, or retried while running
 
   auto estimator = std::make_shared<PostureEstimator>(d.rig, estimator_options(d.config));
   d.pipeline = std::make_unique<Pipeline>(
