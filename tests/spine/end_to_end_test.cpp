@@ -68,8 +68,12 @@ TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverageAndAnatomical) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Phantom, EndToEnd,
-                         ::testing::Values(Case{"flexion", "tall"}, Case{"lateral_left", "petite"},
-                                           Case{"twist", "tall"}, Case{"seated_flexion", "petite"}),
+                         // Every scenario, the two subjects taking turns.
+                         ::testing::Values(Case{"upright", "petite"}, Case{"flexion", "tall"},
+                                           Case{"lateral_left", "petite"}, Case{"lateral_right", "tall"},
+                                           Case{"twist", "tall"}, Case{"combined", "petite"},
+                                           Case{"seated_flexion", "petite"}, Case{"sway", "tall"},
+                                           Case{"fast", "petite"}),
                          [](const auto& info) { return std::string(info.param.scenario) + "_" + info.param.subject; });
 
 }  // namespace
