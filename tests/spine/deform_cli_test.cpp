@@ -1,10 +1,11 @@
-// spinewatch deform and fit-spine on small files.
+// spinewatch deform, fit-spine and fit-cvsm on small files.
 #include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "spine_truth.hpp"
+#include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 #include "spinewatch/estimator/spine/deform_report.hpp"
 #include "test_support.hpp"
@@ -125,6 +126,38 @@ TEST(FitSpineCli, WritesAFragmentDeformAccepts) {
   r = test::run_cli("fit-spine --truth " + (dir / "missing.ndjson").string() + " --out " + (dir / "f.toml").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("missing.ndjson: cannot open"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+TEST(FitCvsmCli, FitsTheTemplateAndKeepsItParseable) {
+  test::TempDir dir;
+  const auto r = test::run_cli("fit-cvsm --out " + (dir / "cvsm.toml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("fit-cvsm: 6 frame pairs"), std::string::npos) << r.output;
+  const std::string text = test::read_file(dir / "cvsm.toml");
+  auto parsed = parse_cvsm_spec(text, "cvsm.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_NE(text.find("# Sources:"), std::string::npos);  // the comments stay
+}
+
+TEST(FitCvsmCli, BadInputIsOneMessageAndExitOne) {
+  test::TempDir dir;
+  auto r = test::run_cli("fit-cvsm --model " + (dir / "missing.toml").string() + " --out " + (dir / "o.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("missing.toml: cannot open"), std::string::npos) << r.output;
+  test::write_file(dir / "bad.toml", "[model]\ncontrol_points = 12\n");
+  r = test::run_cli("fit-cvsm --model " + (dir / "bad.toml").string() + " --out " + (dir / "o.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("bad.toml"), std::string::npos) << r.output;
+  r = test::run_cli("fit-cvsm --subject " + (dir / "nobody.json").string() + " --out " + (dir / "o.toml").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("nobody.json"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.toml"));
 }
 
 }  // namespace

@@ -89,57 +89,59 @@ struct CvsmTracker::Impl {
     return evaluate(model, to_pose(a), limit - penalty).total() + penalty;
   }
 
+  // The best of the candidates tried so far, each pruned against it.
+  struct Candidates {
+    Impl& impl;
+    PoseParams best;
+    std::int64_t best_cost;
+    int evaluations = 1;
+    Candidates(Impl& i, const PoseParams& start) : impl(i), best(start), best_cost(i.cost_of(start, INT64_MAX)) {}
+    void try_one(const PoseParams& a) {
+      ++evaluations;
+      const std::int64_t c = impl.cost_of(a, best_cost);
+      if (c < best_cost) {
+        best_cost = c;
+        best = a;
+      }
+    }
+  };
+
   // Local coarse-to-fine search around `start` (and a constant-velocity
   // prediction from it).
   int local_search(int budget) {
-    PoseParams best = to_params(pose);
-    std::int64_t best_cost = cost_of(best, INT64_MAX);
-    int evaluations = 1;
+    Candidates c(*this, to_params(pose));
     if (have_previous) {
-      PoseParams predicted = best, prev = to_params(previous);
-      for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += best[i] - prev[i];
-      const std::int64_t c = cost_of(predicted, best_cost);
-      ++evaluations;
-      if (c < best_cost) {
-        best_cost = c;
-        best = predicted;
-      }
+      PoseParams predicted = c.best, prev = to_params(previous);
+      for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += c.best[i] - prev[i];
+      c.try_one(predicted);
     }
     // From the prediction the residual motion is small: a 2° / 5 mm step,
     // then a half step only for what moved.
     const PoseParams step{2, 2, 2, 2, 1, 5, 3, 5};
-    auto d = coordinate_descent(best, best_cost, step, 2, budget - evaluations,
+    auto d = coordinate_descent(c.best, c.best_cost, step, 2, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
     pose = to_pose(d.params);
-    return evaluations + d.evaluations;
+    return c.evaluations + d.evaluations;
   }
 
   // Whole-range search over trunk flexion and lateral bending, then a wide
   // local search.
   int global_search(int budget) {
-    PoseParams best = to_params(pose);
-    best[0] = best[1] = best[2] = best[3] = best[4] = 0;
-    std::int64_t best_cost = cost_of(best, INT64_MAX);
-    int evaluations = 1;
-    const PoseParams base = best;
+    PoseParams base = to_params(pose);
+    base[0] = base[1] = base[2] = base[3] = base[4] = 0;
+    Candidates c(*this, base);
     for (double f = -20; f <= 80; f += 10)
       for (double l = -30; l <= 30; l += 10) {
         PoseParams a = base;
         a[0] = f;
-        a[3] = 0;
         a[1] = l;
-        const std::int64_t c = cost_of(a, best_cost);
-        ++evaluations;
-        if (c < best_cost) {
-          best_cost = c;
-          best = a;
-        }
+        c.try_one(a);
       }
     const PoseParams step{8, 6, 8, 6, 4, 40, 20, 40};
-    auto d = coordinate_descent(best, best_cost, step, 6, budget - evaluations,
+    auto d = coordinate_descent(c.best, c.best_cost, step, 6, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
     pose = to_pose(d.params);
-    return evaluations + d.evaluations;
+    return c.evaluations + d.evaluations;
   }
 
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
