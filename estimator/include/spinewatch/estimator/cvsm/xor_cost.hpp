@@ -2,8 +2,8 @@
 // The fit's cost, fast path: control points projected once per changed
 // control plane, each control ring reduced to its extreme points in eight
 // directions (an octagon, in Q8 pixels), the solid between two adjacent
-// rings scan-converted as the convex hull of the two octagons straight into
-// packed rows, and the exclusive-or against the silhouette counted with
+// rings scan-converted as the octagon of their union (per direction the
+// farther extreme) straight into packed rows, and the exclusive-or against the silhouette counted with
 // popcount on the model's rows only (silhouette pixels on other rows are
 // counted once, from per-row totals). A candidate is abandoned as soon as
 // its partial count exceeds the best so far.
@@ -51,6 +51,10 @@ class XorCost {
   // render() leaves the rows in between empty.
   void set_row_step(int step);
   int row_step() const { return row_step_; }
+  // The first sampled row at or below row r (r ≥ 0). Kept off the integer
+  // divider for the usual step of 1: a division per edge cost a third of
+  // the evaluation.
+  int first_sampled(int r) const { return row_step_ == 1 ? r : r + (row_step_ - r % row_step_) % row_step_; }
   // Counts for the model with these world control points; stops early once
   // the total exceeds `limit`.
   XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
@@ -61,13 +65,13 @@ class XorCost {
   const std::vector<PixelQ8>& projected(int view) const { return projected_[static_cast<std::size_t>(view)]; }
 
  private:
-  static constexpr int kRingExtremes = 8;  // per ring: min/max along u, v, u+v, u−v
+  static constexpr int kRingExtremes = 16;  // per ring: extremes along 16 directions
   struct ViewCache {
     std::vector<Eigen::Vector3d> world;  // the points the entries below belong to
     std::vector<std::uint8_t> plane_in_front;
     std::vector<std::uint32_t> plane_version;  // renewed whenever a plane's points change
     std::uint32_t version_counter = 0;
-    std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, sorted by (v, u)
+    std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, clockwise from the top
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
     std::vector<int> segment_r0, segment_rows;
     std::vector<std::int16_t> x0, x1;  // segments × height spans (first, last pixel)
