@@ -10,6 +10,7 @@
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch {
@@ -116,6 +117,33 @@ void BM_SilhouettesOnly(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(ex.extract(view(f)).pixels);
 }
 BENCHMARK(BM_SilhouettesOnly)->Unit(benchmark::kMicrosecond);
+
+// The per-pixel test of a whole 320×240 frame into bits: SSE2 against its
+// scalar reference (arg 0: reference, 1: fast path).
+void BM_ThresholdFrame(benchmark::State& state) {
+  const cv::Mat bg = background();
+  std::mt19937 rng(4);
+  cv::Mat person(kH, kW, CV_8U, cv::Scalar(0));
+  cv::rectangle(person, cv::Rect(130, 30, 60, 210), 255, cv::FILLED);
+  const cv::Mat f = frame(bg, person, rng, 1.02);
+  BitMask out(kW, kH);
+  silhouette_detail::ThresholdRow row;
+  row.gain_q7 = silhouette_detail::gain_to_q7(1.02);
+  row.width = kW;
+  const bool fast = state.range(0) == 1;
+  for (auto _ : state) {
+    for (int y = 0; y < kH; ++y) {
+      row.frame = f.ptr<std::uint8_t>(y);
+      row.background = bg.ptr<std::uint8_t>(y);
+      if (fast)
+        silhouette_detail::threshold_row(row, out.row(y));
+      else
+        silhouette_detail::threshold_row_reference(row, out.row(y));
+    }
+    benchmark::DoNotOptimize(out.row(0)[0]);
+  }
+}
+BENCHMARK(BM_ThresholdFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 struct Candidates {
   CameraRig rig = CameraRig::default_rig();

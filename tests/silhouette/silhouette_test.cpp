@@ -1,6 +1,7 @@
 // Silhouette extraction: background learning, exposure compensation,
 // cleaning to the person's blob, status flags, and agreement with an
 // OpenCV reference (absdiff / threshold / morphology / connectedComponents).
+#include <algorithm>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 
 namespace spinewatch {
 namespace {
@@ -135,6 +137,40 @@ TEST(Silhouette, YuyvViewGivesTheSameMaskAsGrey) {
   const auto b = packed.extract({yuyv.data(), kW, kH, kW * 2, 2});
   EXPECT_EQ(a.status, SilhouetteStatus::Person);
   EXPECT_TRUE(a.mask == b.mask);
+}
+
+// The SIMD threshold against its scalar reference, bit for bit: grey and
+// YUYV rows, widths with and without a ragged last word, the whole gain
+// range, differences right at the threshold.
+TEST(ThresholdRow, FastPathEqualsTheReference) {
+  using silhouette_detail::ThresholdRow;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> byte(0, 255), near(-40, 40);
+  for (int width : {320, 64, 100, 37, 15}) {
+    for (int step : {1, 2}) {
+      for (int trial = 0; trial < 40; ++trial) {
+        std::vector<std::uint8_t> bg(static_cast<std::size_t>(width)), frame(static_cast<std::size_t>(width * step));
+        ThresholdRow row;
+        row.gain_q7 = trial == 0 ? 0 : trial == 1 ? 255 : std::uniform_int_distribution<int>(64, 192)(rng);
+        row.threshold = std::uniform_int_distribution<int>(1, 60)(rng);
+        for (int x = 0; x < width; ++x) {
+          bg[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>(byte(rng));
+          // Half the pixels within a few levels of the decision.
+          const int scaled = (row.gain_q7 * bg[static_cast<std::size_t>(x)]) / 128;
+          const int f = x % 2 ? byte(rng) : scaled + (near(rng) > 0 ? row.threshold : -row.threshold) + near(rng) / 10;
+          frame[static_cast<std::size_t>(x * step)] = static_cast<std::uint8_t>(std::clamp(f, 0, 255));
+        }
+        row.frame = frame.data();
+        row.frame_step = step;
+        row.background = bg.data();
+        row.width = width;
+        std::vector<std::uint64_t> fast(static_cast<std::size_t>((width + 63) / 64), ~0ULL), ref(fast.size(), ~0ULL);
+        silhouette_detail::threshold_row(row, fast.data());
+        silhouette_detail::threshold_row_reference(row, ref.data());
+        ASSERT_EQ(fast, ref) << "width " << width << " step " << step << " gain " << row.gain_q7;
+      }
+    }
+  }
 }
 
 TEST(Silhouette, RemovesSmallBlobsAndFillsPinholes) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 
 namespace spinewatch {
 
@@ -69,6 +70,17 @@ void SilhouetteExtractor::learn(const LumaView& frame) {
   ready_ = true;
 }
 
+namespace {
+// ⌈2^24 / b⌉: n / b for n < 2^16 as (n · ⌈2^24 / b⌉) >> 24, exact (the
+// rounding up adds under 2^16 / 2^24 = 1/256 ≤ 1/b) and free of the divider
+// that made the gain estimate cost more than the threshold of a frame.
+constexpr std::array<std::uint32_t, 256> kReciprocal = [] {
+  std::array<std::uint32_t, 256> r{};
+  for (std::uint32_t b = 1; b < 256; ++b) r[b] = ((1U << 24) + b - 1) / b;
+  return r;
+}();
+}  // namespace
+
 // Exposure flicker scales the whole frame; the median of frame/background
 // over a sparse grid is that scale as long as the person covers less than
 // half of the grid (a standing person covers about a fifth of a view).
@@ -82,7 +94,7 @@ double SilhouetteExtractor::estimate_gain(const LumaView& frame) const {
     for (int x = 4; x < width_; x += 8) {
       const int b = bg[x];
       if (b < 16) continue;  // too dark for a ratio
-      const int bin = (row[x * frame.step] * 256) / b - 128;
+      const int bin = static_cast<int>((std::uint64_t{row[x * frame.step]} * 256 * kReciprocal[static_cast<std::size_t>(b)]) >> 24) - 128;
       ++hist[static_cast<std::size_t>(std::clamp(bin, 0, kBins - 1))];
       ++samples;
     }
@@ -97,14 +109,6 @@ double SilhouetteExtractor::estimate_gain(const LumaView& frame) const {
 }
 
 namespace {
-// Packs eight 0/1 bytes into eight bits, byte i → bit i (no carries: every
-// partial product lands on its own bit).
-inline std::uint64_t pack8(const std::uint8_t* flags) {
-  std::uint64_t v;
-  std::memcpy(&v, flags, 8);
-  return (v * 0x0102040810204080ULL) >> 56;
-}
-
 // Median grey level of a sparse grid: the backdrop level for the plain threshold.
 int backdrop_level(const LumaView& frame) {
   std::array<int, 256> hist{};
@@ -121,29 +125,23 @@ int backdrop_level(const LumaView& frame) {
 }  // namespace
 
 void SilhouetteExtractor::threshold_to_bits(const LumaView& frame, double gain, BitMask& out) const {
-  const int words = out.words_per_row();
-  std::vector<std::uint8_t> flags(static_cast<std::size_t>(words) * 64, 0);
-  const bool plain = options_.background == BackgroundMode::Threshold;
-  const int level = plain ? backdrop_level(frame) : 0;
-  const int g = static_cast<int>(std::lround(gain * 256.0));   // Q8 gain
-  const int t = options_.threshold * 256;
+  if (options_.background == BackgroundMode::Threshold) {
+    // The paper's plain threshold against a uniform backdrop (not the hot path).
+    const int level = backdrop_level(frame);
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x)
+        if (std::abs(frame.at(x, y) - level) > options_.threshold) out.set(x, y);
+    return;
+  }
+  silhouette_detail::ThresholdRow row;
+  row.frame_step = frame.step;
+  row.width = width_;
+  row.gain_q7 = silhouette_detail::gain_to_q7(gain);
+  row.threshold = options_.threshold;
   for (int y = 0; y < height_; ++y) {
-    const std::uint8_t* row = frame.row(y);
-    const std::uint8_t* bg = plain ? nullptr : background_.data() + static_cast<std::ptrdiff_t>(y) * width_;
-    const int step = frame.step;
-    if (plain) {
-      for (int x = 0; x < width_; ++x) flags[static_cast<std::size_t>(x)] = std::abs(row[x * step] - level) > options_.threshold;
-    } else if (step == 1) {
-      for (int x = 0; x < width_; ++x) flags[static_cast<std::size_t>(x)] = std::abs(row[x] * 256 - g * bg[x]) > t;
-    } else {
-      for (int x = 0; x < width_; ++x) flags[static_cast<std::size_t>(x)] = std::abs(row[x * step] * 256 - g * bg[x]) > t;
-    }
-    std::uint64_t* dst = out.row(y);
-    for (int w = 0; w < words; ++w) {
-      std::uint64_t word = 0;
-      for (int b = 0; b < 8; ++b) word |= pack8(flags.data() + w * 64 + b * 8) << (8 * b);
-      dst[w] = word;
-    }
+    row.frame = frame.row(y);
+    row.background = background_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    silhouette_detail::threshold_row(row, out.row(y));
   }
 }
 
