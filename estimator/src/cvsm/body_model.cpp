@@ -65,6 +65,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
     p.half_width = t.half_width * H * shape.width_scale;
     p.back = t.spine_fraction * depth;
     p.front = depth - p.back;
+    p.vertebra = true;
     trunk_chain.push_back(add(p));
   }
   for (const auto& part : spec.parts)
@@ -112,6 +113,17 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
   m.local_points.reserve(m.planes.size() * kControlPoints);
   for (const auto& p : m.planes) add_ring_points(p, m.local_points);
   return m;
+}
+
+BodyModel thin_trunk(const BodyModel& model, int keep) {
+  BodyModel thin = model;
+  if (keep <= 1 || thin.chains.empty()) return thin;
+  std::vector<int>& trunk = thin.chains.front();
+  std::erase_if(trunk, [&](int p) {
+    const ControlPlane& plane = model.planes[static_cast<std::size_t>(p)];
+    return plane.vertebra && plane.frame != static_cast<int>(kWaistIndex) && plane.frame % keep != 0;
+  });
+  return thin;
 }
 
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose) {

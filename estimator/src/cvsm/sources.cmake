@@ -10,8 +10,3 @@ list(APPEND ESTIMATOR_SOURCES
 embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp
   ${SPINEWATCH_SOURCE_DIR}/config/cvsm-generic.toml generic_cvsm_toml)
 list(APPEND ESTIMATOR_SOURCES ${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp)
-# Hardware popcount for the XOR count (every x86-64 CPU since 2008 has it;
-# without the flag std::popcount is a libgcc call).
-if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
-  set_source_files_properties(${CMAKE_CURRENT_LIST_DIR}/xor_cost.cpp PROPERTIES COMPILE_OPTIONS -mpopcnt)
-endif()

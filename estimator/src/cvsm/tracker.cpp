@@ -49,6 +49,7 @@ struct CvsmTracker::Impl {
 
   std::optional<cvsm_detail::SubjectEstimate> subject;  // during init and after
   BodyModel model;
+  BodyModel search_model;  // the model the tracked search compares candidates on
   bool have_model = false;
   int init_frames = 0;
   bool lost = true;     // the next tracked frame needs a global search
@@ -86,7 +87,7 @@ struct CvsmTracker::Impl {
   std::int64_t cost_of(const PoseParams& a, std::int64_t limit) {
     const std::int64_t penalty = translation_penalty(a);
     if (penalty >= limit) return penalty;
-    return evaluate(model, to_pose(a), limit - penalty).total() + penalty;
+    return evaluate(search_model, to_pose(a), limit - penalty).total() + penalty;
   }
 
   // The best of the candidates tried so far, each pruned against it.
@@ -200,6 +201,7 @@ struct CvsmTracker::Impl {
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
+      search_model = thin_trunk(model, opt.search_vertebra_step);
       have_model = true;
       pose = subject->pose;
       home = pose.translation;

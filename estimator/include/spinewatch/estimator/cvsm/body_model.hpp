@@ -66,6 +66,7 @@ struct ControlPlane {
   Eigen::Vector3d offset{0, 0, 0};  // ring centre in the frame, mm
   bool axis_x = false;
   double half_width = 0, front = 0, back = 0;  // mm
+  bool vertebra = false;      // the ring of one of the spheres T1…L5
 };
 inline constexpr int kLegLeftFrame = 17, kLegRightFrame = 18, kFrameCount = 19;
 
@@ -93,6 +94,11 @@ struct CvsmPose {
   double pelvis_flexion = 0, pelvis_lateral = 0;   // degrees, about the hip joints
   Eigen::Vector3d translation{0, 0, 0};            // mm, of the hip joints (and L5) from neutral
 };
+
+// The same model with only every `keep`-th vertebra ring in the trunk
+// chain (T1 and L5 always kept): the search's coarse outline. Planes and
+// control points are unchanged, so the same points serve both.
+BodyModel thin_trunk(const BodyModel& model, int keep);
 
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
 // World control points of every plane (planes.size() × kControlPoints).

