@@ -1,5 +1,6 @@
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 
+#include <bitset>
 #include <cmath>
 
 namespace spinewatch {
@@ -118,6 +119,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
 BodyModel thin_trunk(const BodyModel& model, int keep) {
   BodyModel thin = model;
   if (keep <= 1 || thin.chains.empty()) return thin;
+  thin.thinned = true;
   std::vector<int>& trunk = thin.chains.front();
   std::erase_if(trunk, [&](int p) {
     const ControlPlane& plane = model.planes[static_cast<std::size_t>(p)];
@@ -150,7 +152,14 @@ void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eige
   c[kLegLeftFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_left;
   c[kLegRightFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_right;
   out.resize(model.local_points.size());
+  // A thinned model fills only the planes its chains use.
+  std::bitset<256> used;
+  const bool all = !model.thinned || model.planes.size() > used.size();
+  if (!all)
+    for (const auto& chain : model.chains)
+      for (const int p : chain) used.set(static_cast<std::size_t>(p));
   for (std::size_t p = 0; p < model.planes.size(); ++p) {
+    if (!all && !used.test(p)) continue;
     const auto f = static_cast<std::size_t>(model.planes[p].frame);
     for (std::size_t k = 0; k < kControlPoints; ++k) {
       const std::size_t i = p * kControlPoints + k;

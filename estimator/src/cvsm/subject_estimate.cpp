@@ -173,10 +173,20 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
     n += refine_subject(seated, cost, spec, spine, 60);
     return seated;
   };
-  // Standing or seated: a seated model of the configured height decides.
-  std::optional<SubjectEstimate> best_seated = seated_at(options.height_mm);
-  std::int64_t best_seated_cost = subject_cost(*best_seated, cost, spec, spine, points, INT64_MAX);
-  if (best_seated_cost >= best) return n + 3;
+  // Standing or seated: seated models of the configured height and 12 %
+  // either side decide (one height alone let a petite seated subject lose
+  // to a standing model squeezed to her sitting height).
+  std::optional<SubjectEstimate> best_seated;
+  std::int64_t best_seated_cost = INT64_MAX;
+  for (const double scale : {1.0, 0.88, 1.12}) {
+    SubjectEstimate seated = seated_at(scale * options.height_mm);
+    const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
+    if (c < best_seated_cost) {
+      best_seated_cost = c;
+      best_seated = seated;
+    }
+  }
+  if (best_seated_cost >= best) return n + 4;
   // Seated, the crown no longer tells the height: the trunk's length
   // (crown to seat) does, so heights are tried, each hanging from the
   // measured crown, and the best refined (≈ 800 cost evaluations, once).
@@ -190,7 +200,7 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   }
   n += refine_subject(*best_seated, cost, spec, spine, 60);
   if (subject_cost(*best_seated, cost, spec, spine, points, INT64_MAX) < best) s = *best_seated;
-  return n + 8;
+  return n + 9;
 }
 
 int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {

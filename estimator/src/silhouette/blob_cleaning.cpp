@@ -22,29 +22,24 @@ void horizontal(const std::uint64_t* src, std::uint64_t* dst, int words) {
   }
 }
 
-// Cross-shaped dilation or erosion; outside the image counts as background
-// for dilation and as foreground for erosion (so erosion does not eat
-// blobs that touch the border).
+// Cross-shaped dilation or erosion of `in` into `out` (same size);
+// outside the image counts as background for dilation and as foreground
+// for erosion (so erosion does not eat blobs that touch the border).
 template <bool Dilate>
-BitMask cross(const BitMask& in) {
-  BitMask out(in.width(), in.height());
+void cross(const BitMask& in, BitMask& out) {
   const int words = in.words_per_row();
-  std::vector<std::uint64_t> h(static_cast<std::size_t>(words));
+  constexpr std::uint64_t kOutside = Dilate ? 0 : ~std::uint64_t{0};
+  const std::vector<std::uint64_t> outside(static_cast<std::size_t>(words), kOutside);
+  const std::uint64_t keep = (in.width() & 63) != 0 ? (std::uint64_t{1} << (in.width() & 63)) - 1 : ~std::uint64_t{0};
   for (int y = 0; y < in.height(); ++y) {
-    horizontal<Dilate>(in.row(y), h.data(), words);
+    const std::uint64_t* up = y > 0 ? in.row(y - 1) : outside.data();
+    const std::uint64_t* down = y + 1 < in.height() ? in.row(y + 1) : outside.data();
+    const std::uint64_t* mid = in.row(y);
     std::uint64_t* dst = out.row(y);
-    for (int w = 0; w < words; ++w) {
-      const std::uint64_t up = y > 0 ? in.row(y - 1)[w] : (Dilate ? 0 : ~std::uint64_t{0});
-      const std::uint64_t down = y + 1 < in.height() ? in.row(y + 1)[w] : (Dilate ? 0 : ~std::uint64_t{0});
-      dst[w] = Dilate ? (h[static_cast<std::size_t>(w)] | up | down) : (h[static_cast<std::size_t>(w)] & up & down);
-    }
+    horizontal<Dilate>(mid, dst, words);
+    for (int w = 0; w < words; ++w) dst[w] = Dilate ? (dst[w] | up[w] | down[w]) : (dst[w] & up[w] & down[w]);
+    dst[words - 1] &= keep;  // the padding bits stay clear
   }
-  // Keep the padding bits of the last word clear.
-  if (const int tail = in.width() & 63; tail != 0) {
-    const std::uint64_t keep = (std::uint64_t{1} << tail) - 1;
-    for (int y = 0; y < out.height(); ++y) out.row(y)[words - 1] &= keep;
-  }
-  return out;
 }
 
 struct Run {
@@ -87,7 +82,11 @@ void row_runs(const BitMask& mask, int y, std::vector<Run>& runs) {
 
 }  // namespace
 
-void close_cross(BitMask& mask) { mask = cross<false>(cross<true>(mask)); }
+void close_cross(BitMask& mask) {
+  BitMask dilated(mask.width(), mask.height());
+  cross<true>(mask, dilated);
+  cross<false>(dilated, mask);
+}
 
 BlobSummary keep_largest_blob(BitMask& mask, int min_px) {
   std::vector<Run> runs;

@@ -80,6 +80,7 @@ struct BodyModel {
   Eigen::Vector3d hip_left{0, 0, 0}, hip_right{0, 0, 0};  // hip joints in L5's frame
   // Local control-point offsets, planes.size() × kControlPoints, in each frame.
   std::vector<Eigen::Vector3d> local_points;
+  bool thinned = false;  // made by thin_trunk: chains skip some planes
 };
 
 // neutral L5 body centre: (x, l5_height_fraction·H or seat, z).
@@ -101,7 +102,9 @@ struct CvsmPose {
 BodyModel thin_trunk(const BodyModel& model, int keep);
 
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
-// World control points of every plane (planes.size() × kControlPoints).
+// World control points of every plane (planes.size() × kControlPoints); of
+// a thinned model only the planes its chains use (the rest are left as
+// they were).
 void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out);
 
 }  // namespace spinewatch

@@ -27,7 +27,7 @@ struct CvsmOptions {
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
   int local_budget = 12;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation
-  int search_row_step = 2;       // tracked frames compare candidates on every n-th row
+  int search_row_step = 4;       // tracked frames compare candidates on every n-th row
   // ... and on the trunk outline through every n-th vertebra ring (T1 and
   // L5 always): the trunk is smooth, so the chords lose well under a pixel
   // and the search costs 35 % less. The reported fit uses every ring.
