@@ -180,6 +180,22 @@ void BM_CostFixedPoint(benchmark::State& state) {
 }
 BENCHMARK(BM_CostFixedPoint)->Unit(benchmark::kMicrosecond);
 
+// What one search candidate costs the tracker: the same candidates on the
+// outline it searches with (every 4th vertebra ring, every 4th row; the
+// defaults of CvsmOptions). Not comparable with the reference, which
+// draws every ring on every row.
+void BM_CostSearchCandidate(benchmark::State& state) {
+  Candidates c;
+  const CvsmOptions defaults;
+  const BodyModel thin = thin_trunk(c.body, defaults.search_vertebra_step);
+  XorCost cost(c.rig, kW, kH);
+  cost.set_silhouettes(c.sf, c.sl);
+  cost.set_row_step(defaults.search_row_step);
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(thin, c.points[i++ % c.points.size()]).total());
+}
+BENCHMARK(BM_CostSearchCandidate)->Unit(benchmark::kMicrosecond);
+
 void BM_CostOpenCvReference(benchmark::State& state) {
   Candidates c;
   cv::Mat scratch, diff;
