@@ -1,6 +1,7 @@
 // The CVSM: generic model file, fixed-point projection, the fast XOR cost
 // against the OpenCV float reference, and the tracker on silhouettes
 // rendered from a model of a different subject (self-consistency).
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -141,6 +142,80 @@ TEST(XorCost, PrunedCountIsALowerBoundAboveTheLimit) {
   // The model rendered from the true pose is (almost) its own silhouette.
   control_points(model, pose_vertebrae(model, generic_spine_spec(), CvsmPose{}), pts);
   EXPECT_LT(cost.evaluate(model, pts).cost(), 0.02);  // boundary pixels only
+}
+
+// The incremental state (cached projections, ring extremes climbed from
+// the last candidate's, segment spans, row sampling) must never change a
+// result: a cost that has seen other candidates, other models and another
+// row step draws exactly what a fresh one draws.
+TEST(XorCost, WarmCacheDrawsWhatAFreshCostDraws) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel model = other_subject();
+  const BodyModel thin = thin_trunk(model, 4);
+  XorCost warm(rig, kW, kH);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> angle(-30, 60), lat(-25, 25), shift(-60, 60);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 40; ++i) {
+    CvsmPose p = bend(angle(rng), lat(rng), lat(rng) * 0.8);
+    p.translation = {shift(rng), shift(rng) * 0.3, shift(rng)};
+    control_points(model, pose_vertebrae(model, generic_spine_spec(), p), pts);
+    warm.set_row_step(i % 3 == 0 ? 4 : 1);
+    const BodyModel& m = i % 2 ? thin : model;
+    (void)warm.render(m, pts, kFrontal);
+    (void)warm.render(m, pts, kLateral);
+    warm.set_row_step(1);
+    for (int view : {kFrontal, kLateral}) {
+      XorCost fresh(rig, kW, kH);
+      ASSERT_TRUE(warm.render(m, pts, view) == fresh.render(m, pts, view)) << "candidate " << i << " view " << view;
+    }
+  }
+}
+
+// The search's outline: every 4th vertebra ring and T1 and L5, every other
+// plane kept; the same planes and points, so one set of control points
+// serves both, and a thinned model fills only the planes it uses.
+TEST(CvsmModel, ThinTrunkKeepsEveryFourthVertebraAndTheEnds) {
+  const BodyModel model = other_subject();
+  const BodyModel thin = thin_trunk(model, 4);
+  EXPECT_EQ(thin.planes.size(), model.planes.size());
+  EXPECT_EQ(thin.chains.size(), model.chains.size());
+  for (std::size_t c = 1; c < model.chains.size(); ++c) EXPECT_EQ(thin.chains[c], model.chains[c]);
+  std::vector<int> kept_vertebrae, other_full, other_thin;
+  for (const int p : model.chains[0])
+    if (!model.planes[static_cast<std::size_t>(p)].vertebra) other_full.push_back(p);
+  for (const int p : thin.chains[0]) {
+    const ControlPlane& plane = thin.planes[static_cast<std::size_t>(p)];
+    if (plane.vertebra)
+      kept_vertebrae.push_back(plane.frame);
+    else
+      other_thin.push_back(p);
+  }
+  std::sort(kept_vertebrae.begin(), kept_vertebrae.end());
+  EXPECT_EQ(kept_vertebrae, (std::vector<int>{0, 4, 8, 12, 16}));  // T1, T5, T9, L1, L5
+  EXPECT_EQ(other_thin, other_full);  // pelvis, shoulders and head untouched
+  EXPECT_EQ(thin_trunk(model, 1).chains, model.chains);
+
+  // Planes the thinned chains skip keep whatever was there.
+  std::vector<Eigen::Vector3d> pts(model.local_points.size(), Eigen::Vector3d(1e9, 1e9, 1e9));
+  control_points(thin, pose_vertebrae(thin, generic_spine_spec(), CvsmPose{}), pts);
+  std::vector<Eigen::Vector3d> full;
+  control_points(model, pose_vertebrae(model, generic_spine_spec(), CvsmPose{}), full);
+  int untouched = 0;
+  for (std::size_t p = 0; p < model.planes.size(); ++p) {
+    const bool used = std::find(thin.chains[0].begin(), thin.chains[0].end(), static_cast<int>(p)) != thin.chains[0].end() ||
+                      model.planes[p].frame >= kLegLeftFrame || !model.planes[p].vertebra;
+    for (int k = 0; k < kControlPoints; ++k) {
+      const std::size_t i = p * kControlPoints + static_cast<std::size_t>(k);
+      if (used) {
+        EXPECT_EQ(pts[i], full[i]) << "plane " << p;
+      } else {
+        EXPECT_EQ(pts[i].x(), 1e9) << "plane " << p;
+        ++untouched;
+      }
+    }
+  }
+  EXPECT_EQ(untouched, 12 * kControlPoints);  // 17 vertebra rings, 5 kept
 }
 
 struct Errors {

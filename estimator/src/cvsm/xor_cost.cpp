@@ -58,8 +58,14 @@ void ring_extremes(const PixelQ8* ring, PixelQ8* extremes, std::uint8_t* index) 
         behind = key(prev);
       }
     }
-    index[d] = static_cast<std::uint8_t>(i);
-    extremes[d] = ring[i];
+    // Ties (a side square to the direction): the plateau's lowest index,
+    // as a full arg-max picks, so the polygon never depends on which
+    // candidate came before.
+    int lowest = i;
+    for (int k = 1, j = i == 0 ? n - 1 : i - 1; k < n && key(j) == at; ++k, j = j == 0 ? n - 1 : j - 1) lowest = std::min(lowest, j);
+    for (int k = 1, j = i + 1 == n ? 0 : i + 1; k < n && key(j) == at; ++k, j = j + 1 == n ? 0 : j + 1) lowest = std::min(lowest, j);
+    index[d] = static_cast<std::uint8_t>(lowest);
+    extremes[d] = ring[lowest];
   }
 }
 
