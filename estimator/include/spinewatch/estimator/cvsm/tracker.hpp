@@ -27,10 +27,12 @@ struct CvsmOptions {
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
   int local_budget = 12;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation
-  int search_row_step = 4;       // tracked frames compare candidates on every n-th row
+  // Tuning, not configuration: the searches (local and global) compare
+  // candidates on every n-th row (a power of two) ...
+  int search_row_step = 4;
   // ... and on the trunk outline through every n-th vertebra ring (T1 and
   // L5 always): the trunk is smooth, so the chords lose well under a pixel
-  // and the search costs 35 % less. The reported fit uses every ring.
+  // and a candidate costs half. The reported fit uses every ring and row.
   int search_vertebra_step = 4;
 };
 
