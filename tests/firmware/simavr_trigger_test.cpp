@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
+#include <vector>
 
 #include "sim_controller.hpp"
 
@@ -21,6 +23,18 @@ namespace {
 constexpr double kTick = static_cast<double>(kCyclesPerTick);
 
 double period_cycles(double hz) { return static_cast<double>(kCpuHz) / hz; }
+
+// Smallest and largest delay, in cycles, from each pulse's rising edge to
+// the matching pulse's rising edge on another pin (same number of pulses).
+std::pair<std::int64_t, std::int64_t> rise_lag(const std::vector<Pulse>& from, const std::vector<Pulse>& to) {
+  std::int64_t lo = INT64_MAX, hi = INT64_MIN;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const auto lag = static_cast<std::int64_t>(to[i].rise) - static_cast<std::int64_t>(from[i].rise);
+    lo = std::min(lo, lag);
+    hi = std::max(hi, lag);
+  }
+  return {lo, hi};
+}
 
 std::vector<double> periods(const std::vector<Pulse>& pulses) {
   std::vector<double> out;
@@ -144,14 +158,11 @@ TEST(TriggerFirmware, CamerasCoincideAtZeroDelayAndSyncFollowsCameraA) {
   ASSERT_GE(a.size(), 8u);
   ASSERT_EQ(a.size(), b.size());
   ASSERT_EQ(a.size(), s.size());
-  std::int64_t lag_min = INT64_MAX, lag_max = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].rise, b[i].rise) << "pulse " << i;
     EXPECT_EQ(a[i].fall, b[i].fall) << "pulse " << i;
-    const auto lag = static_cast<std::int64_t>(s[i].rise) - static_cast<std::int64_t>(a[i].rise);
-    lag_min = std::min(lag_min, lag);
-    lag_max = std::max(lag_max, lag);
   }
+  const auto [lag_min, lag_max] = rise_lag(a, s);
   // The sync line is set by the compare ISR: a few microseconds late, never early.
   EXPECT_GT(lag_min, 0);
   EXPECT_LT(lag_max, static_cast<std::int64_t>(10 * kCyclesPerUs));
@@ -236,12 +247,7 @@ TEST(TriggerFirmware, MalformedCommandsGetErrAndPulsesKeepRunning) {
   // The sync line under UART load: its ISR may wait for the receive ISR.
   const auto sync = sim.pulses(Pin::Sync, from);
   ASSERT_EQ(sync.size(), a.size());
-  std::int64_t lag_min = INT64_MAX, lag_max = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const auto lag = static_cast<std::int64_t>(sync[i].rise) - static_cast<std::int64_t>(a[i].rise);
-    lag_min = std::min(lag_min, lag);
-    lag_max = std::max(lag_max, lag);
-  }
+  const auto [lag_min, lag_max] = rise_lag(a, sync);
   EXPECT_GT(lag_min, 0);
   EXPECT_LT(lag_max, static_cast<std::int64_t>(15 * kCyclesPerUs));
   std::printf("[ figures ] sync line lag under UART input: %lld..%lld cycles (%.2f..%.2f us)\n",
