@@ -1,6 +1,5 @@
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 
-#include <bitset>
 #include <cmath>
 
 namespace spinewatch {
@@ -15,6 +14,12 @@ void add_ring_points(const ControlPlane& p, std::vector<Eigen::Vector3d>& out) {
                                            : Eigen::Vector3d(radial, 0, s * p.half_width);
     out.push_back(p.offset + local);
   }
+}
+
+void mark_chain_planes(BodyModel& m) {
+  m.in_chain.assign(m.planes.size(), 0);
+  for (const auto& chain : m.chains)
+    for (const int p : chain) m.in_chain[static_cast<std::size_t>(p)] = 1;
 }
 
 }  // namespace
@@ -76,10 +81,14 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
   m.chains.push_back(trunk_chain);
 
   for (double side : {1.0, -1.0}) {
-    std::vector<int> arm;
+    std::vector<const CvsmSpec::Part*> arm_parts;
     for (const auto& part : spec.parts)
-      if (part.chain == "arm") arm.push_back(add(part_plane(part, side)));
-    if (arm.size() > 1) m.chains.push_back(arm);
+      if (part.chain == "arm") arm_parts.push_back(&part);
+    if (arm_parts.size() > 1) {  // one ring alone has no solid to fill
+      std::vector<int> arm;
+      for (const auto* part : arm_parts) arm.push_back(add(part_plane(*part, side)));
+      m.chains.push_back(arm);
+    }
 
     std::vector<const CvsmSpec::Part*> leg;
     for (const auto& part : spec.parts)
@@ -111,6 +120,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
   m.hip_right = hip + Eigen::Vector3d(0, 0, hip_z);
   m.hip_left = hip - Eigen::Vector3d(0, 0, hip_z);
 
+  mark_chain_planes(m);
   m.local_points.reserve(m.planes.size() * kControlPoints);
   for (const auto& p : m.planes) add_ring_points(p, m.local_points);
   return m;
@@ -119,12 +129,12 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
 BodyModel thin_trunk(const BodyModel& model, int keep) {
   BodyModel thin = model;
   if (keep <= 1 || thin.chains.empty()) return thin;
-  thin.thinned = true;
   std::vector<int>& trunk = thin.chains.front();
   std::erase_if(trunk, [&](int p) {
     const ControlPlane& plane = model.planes[static_cast<std::size_t>(p)];
     return plane.vertebra && plane.frame != static_cast<int>(kWaistIndex) && plane.frame % keep != 0;
   });
+  mark_chain_planes(thin);
   return thin;
 }
 
@@ -152,14 +162,8 @@ void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eige
   c[kLegLeftFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_left;
   c[kLegRightFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_right;
   out.resize(model.local_points.size());
-  // A thinned model fills only the planes its chains use.
-  std::bitset<256> used;
-  const bool all = !model.thinned || model.planes.size() > used.size();
-  if (!all)
-    for (const auto& chain : model.chains)
-      for (const int p : chain) used.set(static_cast<std::size_t>(p));
   for (std::size_t p = 0; p < model.planes.size(); ++p) {
-    if (!all && !used.test(p)) continue;
+    if (!model.in_chain[p]) continue;
     const auto f = static_cast<std::size_t>(model.planes[p].frame);
     for (std::size_t k = 0; k < kControlPoints; ++k) {
       const std::size_t i = p * kControlPoints + k;

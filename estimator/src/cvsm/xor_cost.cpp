@@ -278,13 +278,10 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     proj.assign(points.size(), PixelQ8{});
   }
   // Planes whose points moved: project again, reduce to the ring's extremes.
-  // Only the planes the chains use (a coarse model leaves some out).
-  cache.plane_used.assign(planes, 0);
-  for (const auto& chain : model.chains)
-    for (const int p : chain) cache.plane_used[static_cast<std::size_t>(p)] = 1;
+  // Only the planes the chains use (a thinned model leaves some out).
   bool in_front = true;
   for (std::size_t p = 0; p < planes; ++p) {
-    if (!cache.plane_used[p]) continue;
+    if (!model.in_chain[p]) continue;
     const Eigen::Vector3d* w = points.data() + p * kControlPoints;
     Eigen::Vector3d* cached = cache.world.data() + p * kControlPoints;
     if (std::memcmp(static_cast<const void*>(w), static_cast<const void*>(cached), sizeof(Eigen::Vector3d) * kControlPoints) != 0) {

@@ -5,6 +5,7 @@
 // head, arms, legs). The outer shape is the solid between adjacent control
 // planes of a chain.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -80,7 +81,9 @@ struct BodyModel {
   Eigen::Vector3d hip_left{0, 0, 0}, hip_right{0, 0, 0};  // hip joints in L5's frame
   // Local control-point offsets, planes.size() × kControlPoints, in each frame.
   std::vector<Eigen::Vector3d> local_points;
-  bool thinned = false;  // made by thin_trunk: chains skip some planes
+  // Per plane, whether a chain uses it: all of them in a built model, not
+  // the skipped vertebra rings in a thinned one. Set with the chains.
+  std::vector<std::uint8_t> in_chain;
 };
 
 // neutral L5 body centre: (x, l5_height_fraction·H or seat, z).
@@ -102,8 +105,8 @@ struct CvsmPose {
 BodyModel thin_trunk(const BodyModel& model, int keep);
 
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
-// World control points of every plane (planes.size() × kControlPoints); of
-// a thinned model only the planes its chains use (the rest are left as
+// World control points (planes.size() × kControlPoints) of the planes the
+// model's chains use (in a thinned model the skipped rings are left as
 // they were).
 void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out);
 

@@ -69,7 +69,6 @@ class XorCost {
   struct ViewCache {
     std::vector<Eigen::Vector3d> world;  // the points the entries below belong to
     std::vector<std::uint8_t> plane_in_front;
-    std::vector<std::uint8_t> plane_used;  // by the model's chains
     std::vector<std::uint32_t> plane_version;  // renewed whenever a plane's points change
     std::uint32_t version_counter = 0;
     std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, clockwise from the top
