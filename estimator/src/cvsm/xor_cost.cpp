@@ -30,8 +30,8 @@ constexpr std::int64_t along(int k, const PixelQ8& p) {
 // rise to one maximum and fall again: climbing from where the extreme was
 // for the last candidate (`index`, kept per plane) finds it, and as a
 // candidate moves a ring by a fraction of a pixel that is usually where it
-// still is, three keys instead of twelve. A full arg-max per direction was
-// 10 % of a tracked frame.
+// still is, three to five keys instead of twelve. A full arg-max per
+// direction was 10 % of a tracked frame.
 void ring_extremes(const PixelQ8* ring, PixelQ8* extremes, std::uint8_t* index) {
   constexpr int n = kControlPoints;
   for (int d = 0; d < kDirections; ++d) {
@@ -187,6 +187,7 @@ bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out
 // the pixels whose centres it passes within the row's band; the row's span
 // runs between the outermost of them.
 void XorCost::scan_segment(ViewCache& cache, int segment, const PixelQ8* a, const PixelQ8* b) const {
+  static_assert(kRingExtremes == kDirections, "a ring keeps one extreme per direction");
   PixelQ8 poly[kDirections];
   for (int k = 0; k < kDirections; ++k) poly[k] = along(k, a[k]) >= along(k, b[k]) ? a[k] : b[k];
   const int r0 = std::max(0, round_q8(poly[0].v)), r1 = std::min(height_ - 1, round_q8(poly[kDirections / 2].v));
