@@ -1,5 +1,7 @@
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
+#include "segment_scan.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -10,21 +12,6 @@
 namespace spinewatch {
 namespace {
 
-// The directions a ring is reduced along, clockwise on screen from the top
-// (v grows downwards), at most 26.6° apart: vertex k of a ring's polygon is
-// its extreme point along kDirection[k]. Vertices 0…8 are the right chain,
-// 0, 15, 14, …, 8 the left one, both running down the image; direction
-// k + 8 is the opposite of k. Twelve directions ran 12 % faster but lost
-// enough of each segment that the subject came out 40 mm too tall.
-constexpr int kDirections = 16;
-constexpr std::array<std::array<int, 2>, kDirections> kDirection{{{0, -1}, {1, -2}, {1, -1}, {2, -1},
-                                                                 {1, 0}, {2, 1}, {1, 1}, {1, 2},
-                                                                 {0, 1}, {-1, 2}, {-1, 1}, {-2, 1},
-                                                                 {-1, 0}, {-2, -1}, {-1, -1}, {-1, -2}}};
-constexpr std::int64_t along(int k, const PixelQ8& p) {
-  return std::int64_t{kDirection[static_cast<std::size_t>(k)][0]} * p.u + std::int64_t{kDirection[static_cast<std::size_t>(k)][1]} * p.v;
-}
-
 // Extremes of a ring along every direction. The projected ring is convex
 // with its points in order round it, so along any direction its points
 // rise to one maximum and fall again: climbing from where the extreme was
@@ -32,7 +19,7 @@ constexpr std::int64_t along(int k, const PixelQ8& p) {
 // candidate moves a ring by a fraction of a pixel that is usually where it
 // still is, three to five keys instead of twelve. A full arg-max per
 // direction was 10 % of a tracked frame.
-void ring_extremes(const PixelQ8* ring, PixelQ8* extremes, std::uint8_t* index) {
+void ring_extremes(const PixelQ8* ring, RingExtremes& extremes, std::uint8_t* index) {
   constexpr int n = kControlPoints;
   for (int d = 0; d < kDirections; ++d) {
     const auto dx = kDirection[static_cast<std::size_t>(d)][0], dy = kDirection[static_cast<std::size_t>(d)][1];
@@ -65,7 +52,8 @@ void ring_extremes(const PixelQ8* ring, PixelQ8* extremes, std::uint8_t* index) 
     for (int k = 1, j = i == 0 ? n - 1 : i - 1; k < n && key(j) == at; ++k, j = j == 0 ? n - 1 : j - 1) lowest = std::min(lowest, j);
     for (int k = 1, j = i + 1 == n ? 0 : i + 1; k < n && key(j) == at; ++k, j = j + 1 == n ? 0 : j + 1) lowest = std::min(lowest, j);
     index[d] = static_cast<std::uint8_t>(lowest);
-    extremes[d] = ring[lowest];
+    extremes.u[d] = ring[lowest].u;
+    extremes.v[d] = ring[lowest].v;
   }
 }
 
@@ -82,11 +70,6 @@ std::int64_t count_xor_rows(const std::uint64_t* model, const std::uint64_t* sil
   }
   return count;
 }
-
-// Pixel of a Q8 coordinate: the one whose square [c − ½, c + ½) holds it.
-constexpr int round_q8(std::int64_t v) { return static_cast<int>((v + 128) >> 8); }
-constexpr int ceil_q8(std::int64_t v) { return static_cast<int>((v + 255) >> 8); }
-constexpr int floor_q8(std::int64_t v) { return static_cast<int>(v >> 8); }
 
 // Q8 without a library call: |coordinates| are clamped far outside the
 // image first (a point just in front of the camera projects anywhere), and
@@ -174,93 +157,6 @@ bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out
   return true;
 }
 
-// The solid between two rings is filled as the polygon of their union:
-// along each direction the farther of the two rings' extremes. Its
-// vertices lie on the convex hull of both rings and come out already in
-// order round it, so there is no hull to build and no sorting; what it
-// gives up against the exact hull is a sliver along a side that runs
-// between two directions, at most 1 − cos 13.3° = 2.7 % of the ring's
-// radius deep (eight directions lost 7.6 %, and the fit made up for the
-// shrinkage with a subject 76 mm too tall). Each chain is scanned the way OpenCV's fillPoly (LINE_8
-// outline + interior) covers pixels: for a steep edge (|du| ≤ |dv|) the
-// pixel nearest its crossing with the row's centre line, for a shallow one
-// the pixels whose centres it passes within the row's band; the row's span
-// runs between the outermost of them.
-void XorCost::scan_segment(ViewCache& cache, int segment, const PixelQ8* a, const PixelQ8* b) const {
-  static_assert(kRingExtremes == kDirections, "a ring keeps one extreme per direction");
-  PixelQ8 poly[kDirections];
-  for (int k = 0; k < kDirections; ++k) poly[k] = along(k, a[k]) >= along(k, b[k]) ? a[k] : b[k];
-  const int r0 = std::max(0, round_q8(poly[0].v)), r1 = std::min(height_ - 1, round_q8(poly[kDirections / 2].v));
-  const auto seg = static_cast<std::size_t>(segment);
-  cache.segment_r0[seg] = r0;
-  cache.segment_rows[seg] = std::max(0, r1 - r0 + 1);
-  if (r0 > r1) return;
-  std::int16_t* x0 = cache.x0.data() + seg * static_cast<std::size_t>(height_);  // index: row − r0
-  std::int16_t* x1 = cache.x1.data() + seg * static_cast<std::size_t>(height_);
-  for (int r = r0; r <= r1; ++r) {
-    x0[r - r0] = INT16_MAX;
-    x1[r - r0] = INT16_MIN;
-  }
-  const int step = row_step_;
-  auto widen = [&](int r, std::int64_t lo, std::int64_t hi) {
-    if (lo > hi) return;  // passes between two pixel centres
-    lo = std::clamp<std::int64_t>(lo, -1, width_);
-    hi = std::clamp<std::int64_t>(hi, -1, width_);
-    if (lo < x0[r - r0]) x0[r - r0] = static_cast<std::int16_t>(lo);
-    if (hi > x1[r - r0]) x1[r - r0] = static_cast<std::int16_t>(hi);
-  };
-  for (int side = 0; side < 2; ++side)
-    for (int e = 0; e < kDirections / 2; ++e) {
-      // Right chain 0 → 8, left chain 0 → 15 → … → 8.
-      const int i = side == 0 ? e : (kDirections - e) % kDirections, j = side == 0 ? e + 1 : kDirections - e - 1;
-      PixelQ8 p = poly[i], q = poly[j];
-      if (p.u == q.u && p.v == q.v) continue;  // both directions share a vertex
-      // Ties between the two rings can order two vertices of a chain
-      // against v; the edge between them is inside the polygon either way.
-      if (q.v < p.v) std::swap(p, q);
-      int ra = std::max(r0, round_q8(p.v));
-      const int rb = std::min(r1, round_q8(q.v));
-      if (q.v == p.v) {
-        if (ra >= r0 && ra <= r1 && first_sampled(ra) == ra) widen(ra, round_q8(std::min(p.u, q.u)), round_q8(std::max(p.u, q.u)));
-        continue;
-      }
-      ra = first_sampled(ra);
-      const std::int64_t du = q.u - p.u, dv = q.v - p.v;
-      // u along the edge, stepped per sampled row in double (one division
-      // per edge; the sum stays within 1e-9 px of the exact value over an
-      // image). Clamping u to the edge's ends is clamping v to them: u is
-      // monotone along the edge.
-      const double slope = static_cast<double>(du) / static_cast<double>(dv);
-      const double u_step = 256.0 * step * slope;
-      const std::int64_t u_min = std::min(p.u, q.u), u_max = std::max(p.u, q.u);
-      auto u_of = [&](double u) { return std::clamp(static_cast<std::int64_t>(u), u_min, u_max); };
-      if (std::abs(du) <= dv) {
-        double u = p.u + static_cast<double>(std::int64_t{ra} * 256 - p.v) * slope;
-        for (int r = ra; r <= rb; r += step, u += u_step) {
-          const std::int64_t x = std::clamp<std::int64_t>(round_q8(u_of(u)), -1, width_);
-          std::int16_t& lo = x0[r - r0];
-          std::int16_t& hi = x1[r - r0];
-          lo = static_cast<std::int16_t>(std::min<std::int64_t>(lo, x));
-          hi = static_cast<std::int16_t>(std::max<std::int64_t>(hi, x));
-        }
-      } else {
-        // u where the edge enters and leaves the row's band [r − ½, r + ½).
-        const double band = 256.0 * slope;
-        double u_top = p.u + static_cast<double>(std::int64_t{ra} * 256 - 128 - p.v) * slope;
-        const int pu = round_q8(p.u), qu = round_q8(q.u);
-        for (int r = ra; r <= rb; r += step, u_top += u_step) {
-          const std::int64_t ua = u_of(u_top), ub = u_of(u_top + band);
-          // Columns whose centres the edge passes in this row; an end at a
-          // vertex is drawn at the vertex's own (rounded) pixel.
-          std::int64_t lo = ceil_q8(std::min(ua, ub)), hi = floor_q8(std::max(ua, ub));
-          if (std::int64_t{r} * 256 - 128 <= p.v) lo = std::min<std::int64_t>(lo, pu), hi = std::max<std::int64_t>(hi, pu);
-          if (std::int64_t{r} * 256 + 128 >= q.v) lo = std::min<std::int64_t>(lo, qu), hi = std::max<std::int64_t>(hi, qu);
-          widen(r, lo, hi);
-        }
-      }
-    }
-}
-
 bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view) {
   if (y_lo_ <= y_hi_)
     std::fill(rows_.begin() + static_cast<std::ptrdiff_t>(y_lo_) * words_,
@@ -295,7 +191,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
       PixelQ8* out = proj.data() + p * kControlPoints;
       cache.plane_in_front[p] = project_plane(view, w, out);
       if (cache.plane_in_front[p]) {
-        ring_extremes(out, cache.extremes[p].data(), cache.extreme_index[p].data());
+        ring_extremes(out, cache.extremes[p], cache.extreme_index[p].data());
       }
     }
     in_front = in_front && cache.plane_in_front[p];
@@ -311,6 +207,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     cache.x0.assign(segments * static_cast<std::size_t>(height_), 0);
     cache.x1.assign(segments * static_cast<std::size_t>(height_), 0);
   }
+  const SpanImage image{width_, height_, row_step_};
   std::size_t s = 0;
   for (const auto& chain : model.chains)
     for (std::size_t i = 0; i + 1 < chain.size(); ++i, ++s) {
@@ -321,7 +218,10 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
                                              cache.plane_version[ua], cache.plane_version[ub]};
       if (cache.segment_planes[s] != key) {
         cache.segment_planes[s] = key;
-        scan_segment(cache, static_cast<int>(s), cache.extremes[ua].data(), cache.extremes[ub].data());
+        int rows = 0;
+        cache.segment_r0[s] = scan_segment(cache.extremes[ua], cache.extremes[ub], image, cache.x0.data() + s * static_cast<std::size_t>(height_),
+                                           cache.x1.data() + s * static_cast<std::size_t>(height_), rows);
+        cache.segment_rows[s] = rows;
       }
       const int r0 = cache.segment_r0[s], n = cache.segment_rows[s];
       const std::int16_t* x0 = cache.x0.data() + s * static_cast<std::size_t>(height_);

@@ -40,6 +40,15 @@ struct XorCounts {
   }
 };
 
+// A projected control ring reduced to its extreme points along 16 fixed
+// directions (src/cvsm/segment_scan.hpp), Q8 pixels. Structure of arrays:
+// the scan loads four directions at a time.
+struct RingExtremes {
+  static constexpr int kCount = 16;
+  alignas(16) std::int32_t u[kCount];
+  alignas(16) std::int32_t v[kCount];
+};
+
 class XorCost {
  public:
   XorCost(const CameraRig& rig, int width, int height);
@@ -65,14 +74,13 @@ class XorCost {
   const std::vector<PixelQ8>& projected(int view) const { return projected_[static_cast<std::size_t>(view)]; }
 
  private:
-  static constexpr int kRingExtremes = 16;  // per ring: extremes along 16 directions
   struct ViewCache {
     std::vector<Eigen::Vector3d> world;  // the points the entries below belong to
     std::vector<std::uint8_t> plane_in_front;
     std::vector<std::uint32_t> plane_version;  // renewed whenever a plane's points change
     std::uint32_t version_counter = 0;
-    std::vector<std::array<PixelQ8, kRingExtremes>> extremes;  // per plane, clockwise from the top
-    std::vector<std::array<std::uint8_t, kRingExtremes>> extreme_index;  // which control point each is
+    std::vector<RingExtremes> extremes;  // per plane
+    std::vector<std::array<std::uint8_t, RingExtremes::kCount>> extreme_index;  // which control point each is
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
     std::vector<int> segment_r0, segment_rows;
     std::vector<std::int16_t> x0, x1;  // segments × height spans (first, last pixel)
@@ -81,7 +89,6 @@ class XorCost {
   // false when a point is behind the camera.
   bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
   bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
-  void scan_segment(ViewCache& cache, int segment, const PixelQ8* a, const PixelQ8* b) const;
 
   std::array<FixedCamera, 2> cameras_;
   std::array<std::array<double, 12>, 2> p_{};  // K·[R|t] per view (distortion-free path)
