@@ -1,35 +1,44 @@
 #pragma once
-// Row spans of one CVSM segment, the solid between two adjacent control
-// rings, as the fast cost scan-converts it (see segment_scan.cpp).
+// Control rings reduced to their reach along fixed directions, and the row
+// spans of one CVSM segment, the solid between two adjacent rings, as the
+// fast cost scan-converts it (see segment_scan.cpp).
 #include <array>
 #include <cstdint>
 
+#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 
-// A ring reduced to its extreme points (RingExtremes): point k is its
-// extreme along kDirection[k], clockwise on screen from the top (v grows
-// downwards).
-// Sixteen directions at most 26.6° apart: vertex k of a segment's polygon
-// is the farther of its two rings' extremes along kDirection[k], vertices
-// 0…8 run down the right side, 8…15, 0 back up the left one, and
-// direction k + 8 is the opposite of k.
-inline constexpr int kDirections = RingExtremes::kCount;
+// Sixteen directions, clockwise on screen from the top (v grows
+// downwards), at most 26.6° apart; direction k + 8 is the opposite of k.
+inline constexpr int kDirections = RingSupport::kCount;
 inline constexpr std::array<std::array<int, 2>, kDirections> kDirection{{{0, -1}, {1, -2}, {1, -1}, {2, -1},
                                                                         {1, 0}, {2, 1}, {1, 1}, {1, 2},
                                                                         {0, 1}, {-1, 2}, {-1, 1}, {-2, 1},
                                                                         {-1, 0}, {-2, -1}, {-1, -1}, {-1, -2}}};
+
+// A ring's support along kDirection[k] = (du, dv) is h = max over its
+// points of du·u + dv·v (Q8). key[k] packs it with the point that reaches
+// it, the lowest index i on ties, so that the larger key is the farther
+// ring: 16·h + (15 − i) for k < 8, 16·h − i for k ≥ 8. Exact while the
+// ring lies within ±1024 px of the image.
+void ring_support(const PixelQ8* ring, RingSupport& out);
+
 struct SpanImage {
   int width = 0, height = 0;
   int row_step = 1;  // a power of two: only rows r with r % row_step == 0 are scanned
+};
+
+struct Ring {
+  const RingSupport* support;
+  const PixelQ8* points;  // kControlPoints of them
 };
 
 // Fills x0[r − r0], x1[r − r0] (first and last pixel, clamped to −1…width)
 // for the sampled rows r of the solid between rings a and b, and returns
 // r0; `rows` receives r1 − r0 + 1 (0 when the solid misses the image).
 // x0 and x1 must hold `height` entries.
-int scan_segment(const RingExtremes& a, const RingExtremes& b, const SpanImage& image, std::int16_t* x0,
-                 std::int16_t* x1, int& rows);
+int scan_segment(Ring a, Ring b, const SpanImage& image, std::int16_t* x0, std::int16_t* x1, int& rows);
 
 }  // namespace spinewatch

@@ -12,51 +12,6 @@
 namespace spinewatch {
 namespace {
 
-// Extremes of a ring along every direction. The projected ring is convex
-// with its points in order round it, so along any direction its points
-// rise to one maximum and fall again: climbing from where the extreme was
-// for the last candidate (`index`, kept per plane) finds it, and as a
-// candidate moves a ring by a fraction of a pixel that is usually where it
-// still is, three to five keys instead of twelve. A full arg-max per
-// direction was 10 % of a tracked frame.
-void ring_extremes(const PixelQ8* ring, RingExtremes& extremes, std::uint8_t* index) {
-  constexpr int n = kControlPoints;
-  for (int d = 0; d < kDirections; ++d) {
-    const auto dx = kDirection[static_cast<std::size_t>(d)][0], dy = kDirection[static_cast<std::size_t>(d)][1];
-    auto key = [&](int k) { return dx * ring[k].u + dy * ring[k].v; };  // Q8 ≤ 2^24: fits in 32 bits
-    int i = index[d];
-    std::int32_t at = key(i);
-    int next = i + 1 == n ? 0 : i + 1;
-    std::int32_t ahead = key(next);
-    if (ahead > at) {
-      do {
-        i = next;
-        at = ahead;
-        next = i + 1 == n ? 0 : i + 1;
-        ahead = key(next);
-      } while (ahead > at);
-    } else {
-      int prev = i == 0 ? n - 1 : i - 1;
-      std::int32_t behind = key(prev);
-      while (behind > at) {
-        i = prev;
-        at = behind;
-        prev = i == 0 ? n - 1 : i - 1;
-        behind = key(prev);
-      }
-    }
-    // Ties (a side square to the direction): the plateau's lowest index,
-    // as a full arg-max picks, so the polygon never depends on which
-    // candidate came before.
-    int lowest = i;
-    for (int k = 1, j = i == 0 ? n - 1 : i - 1; k < n && key(j) == at; ++k, j = j == 0 ? n - 1 : j - 1) lowest = std::min(lowest, j);
-    for (int k = 1, j = i + 1 == n ? 0 : i + 1; k < n && key(j) == at; ++k, j = j + 1 == n ? 0 : j + 1) lowest = std::min(lowest, j);
-    index[d] = static_cast<std::uint8_t>(lowest);
-    extremes.u[d] = ring[lowest].u;
-    extremes.v[d] = ring[lowest].v;
-  }
-}
-
 // XOR pixels of `rows` sampled rows (every `step`-th) of two masks laid
 // out alike, stopping once the count exceeds `budget` (the estimator is
 // built with hardware popcount on x86-64).
@@ -170,8 +125,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     cache.world.assign(points.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
     cache.plane_in_front.assign(planes, 0);
     cache.plane_version.assign(planes, 0);
-    cache.extremes.resize(planes);
-    cache.extreme_index.assign(planes, {});
+    cache.support.resize(planes);
     proj.assign(points.size(), PixelQ8{});
   }
   // Planes whose points moved: project again, reduce to the ring's extremes.
@@ -191,7 +145,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
       PixelQ8* out = proj.data() + p * kControlPoints;
       cache.plane_in_front[p] = project_plane(view, w, out);
       if (cache.plane_in_front[p]) {
-        ring_extremes(out, cache.extremes[p], cache.extreme_index[p].data());
+        ring_support(out, cache.support[p]);
       }
     }
     in_front = in_front && cache.plane_in_front[p];
@@ -219,7 +173,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
       if (cache.segment_planes[s] != key) {
         cache.segment_planes[s] = key;
         int rows = 0;
-        cache.segment_r0[s] = scan_segment(cache.extremes[ua], cache.extremes[ub], image, cache.x0.data() + s * static_cast<std::size_t>(height_),
+        cache.segment_r0[s] = scan_segment({&cache.support[ua], proj.data() + ua * kControlPoints}, {&cache.support[ub], proj.data() + ub * kControlPoints}, image, cache.x0.data() + s * static_cast<std::size_t>(height_),
                                            cache.x1.data() + s * static_cast<std::size_t>(height_), rows);
         cache.segment_rows[s] = rows;
       }

@@ -40,13 +40,13 @@ struct XorCounts {
   }
 };
 
-// A projected control ring reduced to its extreme points along 16 fixed
-// directions (src/cvsm/segment_scan.hpp), Q8 pixels. Structure of arrays:
-// the scan loads four directions at a time.
-struct RingExtremes {
+// A projected control ring reduced to how far it reaches along 16 fixed
+// directions and which of its points reaches farthest
+// (src/cvsm/segment_scan.hpp). Floats, which hold these integers exactly,
+// so the scan loads four at a time.
+struct RingSupport {
   static constexpr int kCount = 16;
-  alignas(16) std::int32_t u[kCount];
-  alignas(16) std::int32_t v[kCount];
+  alignas(16) float key[kCount];
 };
 
 class XorCost {
@@ -79,8 +79,7 @@ class XorCost {
     std::vector<std::uint8_t> plane_in_front;
     std::vector<std::uint32_t> plane_version;  // renewed whenever a plane's points change
     std::uint32_t version_counter = 0;
-    std::vector<RingExtremes> extremes;  // per plane
-    std::vector<std::array<std::uint8_t, RingExtremes::kCount>> extreme_index;  // which control point each is
+    std::vector<RingSupport> support;  // per plane
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
     std::vector<int> segment_r0, segment_rows;
     std::vector<std::int16_t> x0, x1;  // segments × height spans (first, last pixel)
