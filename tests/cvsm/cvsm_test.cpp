@@ -125,6 +125,35 @@ TEST(XorCost, AgreesWithOpenCvReferenceOnRandomCandidates) {
   std::printf("worst fast/reference XOR difference: %.3f %% of the pixels compared\n", 100 * worst);
 }
 
+// The fast path projects in float, four points at a time: every control
+// point of random candidates lands within the Q8 rounding (1/512 px) plus
+// 2e-4 px of the double projection.
+TEST(XorCost, ProjectsLikeTheCameraModel) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel model = other_subject();
+  XorCost cost(rig, kW, kH);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-30, 60), lat(-25, 25), shift(-300, 300);
+  std::vector<Eigen::Vector3d> pts;
+  double worst = 0;
+  for (int i = 0; i < 50; ++i) {
+    CvsmPose p = bend(angle(rng), lat(rng), lat(rng));
+    p.translation = {shift(rng), shift(rng) * 0.3, shift(rng)};
+    control_points(model, pose_vertebrae(model, generic_spine_spec(), p), pts);
+    for (int view : {kFrontal, kLateral}) {
+      (void)cost.render(model, pts, view);
+      const CameraModel& cam = view == kFrontal ? rig.frontal : rig.lateral;
+      for (std::size_t k = 0; k < pts.size(); ++k) {
+        const Eigen::Vector2d ref = *cam.project(pts[k]);
+        const PixelQ8 q = cost.projected(view)[k];
+        worst = std::max({worst, std::abs(q.u / 256.0 - ref.x()), std::abs(q.v / 256.0 - ref.y())});
+      }
+    }
+  }
+  EXPECT_LT(worst, 1.0 / 512 + 2e-4);
+  std::printf("worst projection error: %.5f px\n", worst);
+}
+
 TEST(XorCost, PrunedCountIsALowerBoundAboveTheLimit) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel model = other_subject();

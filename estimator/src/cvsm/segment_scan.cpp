@@ -4,25 +4,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "lanes.hpp"
+
 namespace spinewatch {
 namespace {
 
-// Four float lanes: SSE2 on x86-64, NEON on the Pi, from the same source
-// (GCC vector extensions).
-using f32x4 = float __attribute__((vector_size(16)));
-using i32x4 = std::int32_t __attribute__((vector_size(16)));
-
-f32x4 splat(float x) { return f32x4{x, x, x, x}; }
-f32x4 load(const float* p) {
-  f32x4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-void store(float* p, f32x4 v) { std::memcpy(p, &v, sizeof v); }
-f32x4 min(f32x4 a, f32x4 b) { return a < b ? a : b; }
-f32x4 max(f32x4 a, f32x4 b) { return a > b ? a : b; }
-// Truncation is the floor for x ≥ 0.
-i32x4 trunc(f32x4 x) { return __builtin_convertvector(x, i32x4); }
+using namespace lanes;
 
 static_assert(kControlPoints <= 16, "a ring's point index is packed into 4 bits of its keys");
 static_assert(kDirection[0][0] == 0 && kDirection[8][0] == 0 && kDirection[4][1] == 0,

@@ -1,5 +1,6 @@
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
+#include "lanes.hpp"
 #include "segment_scan.hpp"
 
 #include <algorithm>
@@ -26,14 +27,7 @@ std::int64_t count_xor_rows(const std::uint64_t* model, const std::uint64_t* sil
   return count;
 }
 
-// Q8 without a library call: |coordinates| are clamped far outside the
-// image first (a point just in front of the camera projects anywhere), and
-// the offset keeps the truncation a floor, all within 32 bits.
-constexpr double kQ8Limit = 1 << 24;
-std::int32_t to_q8(double px) {
-  const double q = std::min(std::max(px * 256.0, -kQ8Limit), kQ8Limit);
-  return static_cast<std::int32_t>(q + 0.5 + kQ8Limit) - static_cast<std::int32_t>(kQ8Limit);
-}
+constexpr float kQ8Limit = 1 << 24;  // |Q8| clamp, far outside any image
 
 }  // namespace
 
@@ -47,7 +41,7 @@ XorCost::XorCost(const CameraRig& rig, int width, int height)
     rt << cams[v]->R, cams[v]->t;
     const Eigen::Matrix<double, 3, 4> p = cams[v]->camera_matrix * rt;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 4; ++j) p_[static_cast<std::size_t>(v)][static_cast<std::size_t>(4 * i + j)] = p(i, j);
+      for (int j = 0; j < 4; ++j) pf_[static_cast<std::size_t>(v)][static_cast<std::size_t>(4 * i + j)] = static_cast<float>(p(i, j));
   }
 }
 
@@ -80,10 +74,9 @@ void XorCost::update_prefix() {
   }
 }
 
-// The distortion-free path is K·(R·X + t) in double and one division per
-// point (the same arithmetic as CameraModel::project, so no error bound
-// beyond the final rounding to 1/256 px); distorted cameras go through
-// FixedCamera (CameraModel::project, rounded to Q8).
+// The distortion-free path is K·[R|t]·X in float, four points at a time;
+// distorted cameras go through FixedCamera (CameraModel::project, rounded
+// to Q8).
 bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const {
   const FixedCamera& cam = cameras_[static_cast<std::size_t>(view)];
   if (!cam.integer_path()) {
@@ -91,25 +84,30 @@ bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out
       if (!cam.project(world[k], out[k])) return false;
     return true;
   }
-  // One ring in straight-line loops without early exits, so the compiler
-  // runs two points per instruction.
-  const auto& p = p_[static_cast<std::size_t>(view)];
-  double w[kControlPoints], u[kControlPoints], v[kControlPoints];
-  bool in_front = true;
-  for (int k = 0; k < kControlPoints; ++k) {
-    const double x = world[k].x(), y = world[k].y(), z = world[k].z();
-    w[k] = p[8] * x + p[9] * y + p[10] * z + p[11];
-    u[k] = p[0] * x + p[1] * y + p[2] * z + p[3];
-    v[k] = p[4] * x + p[5] * y + p[6] * z + p[7];
-    in_front &= w[k] >= 1.0;  // not behind, nor within 1 mm of, the camera plane
+  // Float keeps 24 bits: with world points within 3 m of the origin the
+  // pixel coordinates come out within 2e-4 px of CameraModel::project
+  // before the rounding to Q8 (test XorCost.ProjectsLikeTheCameraModel).
+  using namespace lanes;
+  const auto& p = pf_[static_cast<std::size_t>(view)];
+  i32x4 in_front = i32x4{} == 0;
+  for (int g = 0; g < kControlPoints; g += 4) {
+    f32x4 x, y, z;
+    for (int j = 0; j < 4; ++j) {
+      x[j] = static_cast<float>(world[g + j].x());
+      y[j] = static_cast<float>(world[g + j].y());
+      z[j] = static_cast<float>(world[g + j].z());
+    }
+    const f32x4 w = splat(p[8]) * x + splat(p[9]) * y + splat(p[10]) * z + splat(p[11]);
+    in_front &= w >= splat(1.0f);  // not behind, nor within 1 mm of, the camera plane
+    // |coordinates| are clamped far outside the image (a point just in
+    // front of the camera projects anywhere).
+    const f32x4 scale = splat(256.0f) / max(w, splat(1.0f)), limit = splat(kQ8Limit);
+    const f32x4 u = (splat(p[0]) * x + splat(p[1]) * y + splat(p[2]) * z + splat(p[3])) * scale;
+    const f32x4 v = (splat(p[4]) * x + splat(p[5]) * y + splat(p[6]) * z + splat(p[7])) * scale;
+    const i32x4 uq = round(max(min(u, limit), -limit)), vq = round(max(min(v, limit), -limit));
+    for (int j = 0; j < 4; ++j) out[g + j] = PixelQ8{uq[j], vq[j]};
   }
-  if (!in_front) return false;
-  for (int k = 0; k < kControlPoints; ++k) {
-    const double inv = 1.0 / w[k];
-    out[k].u = to_q8(u[k] * inv);
-    out[k].v = to_q8(v[k] * inv);
-  }
-  return true;
+  return (in_front[0] & in_front[1] & in_front[2] & in_front[3]) != 0;
 }
 
 bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view) {

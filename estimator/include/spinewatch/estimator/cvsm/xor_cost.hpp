@@ -90,7 +90,7 @@ class XorCost {
   bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
 
   std::array<FixedCamera, 2> cameras_;
-  std::array<std::array<double, 12>, 2> p_{};  // K·[R|t] per view (distortion-free path)
+  std::array<std::array<float, 12>, 2> pf_{};  // K·[R|t] per view (distortion-free path)
   int width_, height_, words_;
   std::array<const BitMask*, 2> silhouettes_{};
   void update_prefix();
