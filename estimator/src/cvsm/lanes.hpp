@@ -1,9 +1,17 @@
 #pragma once
 // Four 32-bit lanes for the fast cost's inner loops: SSE2 on x86-64 and
-// NEON on the Pi from the same source, through GCC vector extensions
-// (no intrinsics, no run-time dispatch).
+// NEON on the Pi from the same source, through GCC vector extensions (no
+// run-time dispatch). Where GCC does not find the one instruction by
+// itself (min, max, lane masks) it is named here, with a generic fallback.
+#include <bit>
 #include <cstdint>
 #include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
 
 namespace spinewatch::lanes {
 
@@ -17,8 +25,24 @@ inline f32x4 load(const float* p) {
   return v;
 }
 inline void store(float* p, f32x4 v) { std::memcpy(p, &v, sizeof v); }
+#if defined(__SSE2__)
+inline f32x4 min(f32x4 a, f32x4 b) { return _mm_min_ps(a, b); }
+inline f32x4 max(f32x4 a, f32x4 b) { return _mm_max_ps(a, b); }
+// Bit j: lane j of a comparison is true.
+inline unsigned mask_bits(i32x4 m) { return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(m))); }
+#elif defined(__ARM_NEON)
+inline f32x4 min(f32x4 a, f32x4 b) { return vminq_f32(a, b); }
+inline f32x4 max(f32x4 a, f32x4 b) { return vmaxq_f32(a, b); }
+inline unsigned mask_bits(i32x4 m) {
+  return (m[0] != 0 ? 1u : 0u) | (m[1] != 0 ? 2u : 0u) | (m[2] != 0 ? 4u : 0u) | (m[3] != 0 ? 8u : 0u);
+}
+#else
 inline f32x4 min(f32x4 a, f32x4 b) { return a < b ? a : b; }
 inline f32x4 max(f32x4 a, f32x4 b) { return a > b ? a : b; }
+inline unsigned mask_bits(i32x4 m) {
+  return (m[0] != 0 ? 1u : 0u) | (m[1] != 0 ? 2u : 0u) | (m[2] != 0 ? 4u : 0u) | (m[3] != 0 ? 8u : 0u);
+}
+#endif
 // Rounds toward zero, which is the floor for x ≥ 0.
 inline i32x4 trunc(f32x4 x) { return __builtin_convertvector(x, i32x4); }
 inline f32x4 to_float(i32x4 x) { return __builtin_convertvector(x, f32x4); }

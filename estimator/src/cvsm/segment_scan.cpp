@@ -63,6 +63,14 @@ bool side_line(PixelQ8 p, PixelQ8 q, bool right, int top, float& c, float& s) {
   return true;
 }
 
+// Per side the 7 fixed lines and one chord (a line that never binds when
+// there is none), then any further chords: rings that cross on screen.
+constexpr int kFixedLines = 8;
+struct SideLines {
+  float c[kFixedLines + kDirections / 2], s[kFixedLines + kDirections / 2];
+  int count = kFixedLines;
+};
+
 }  // namespace
 
 // The directions come in opposite pairs, so one pass over the points
@@ -109,30 +117,34 @@ void ring_support(const PixelQ8* ring, RingSupport& out) {
 // min over the right sides'], with no edges to walk and four rows per
 // instruction. The fixed sides are exact but for the packed index (under
 // 1/256 px), the chords within 1e-4 px.
-int scan_segment(Ring a, Ring b, const SpanImage& image, std::int16_t* x0, std::int16_t* x1, int& rows) {
+SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1) {
   alignas(16) float key[kDirections];
   unsigned from_a = 0;  // bit k: ring a reaches farther along direction k
   for (int i = 0; i < kDirections; i += 4) {
     const f32x4 ka = load(a.support->key + i), kb = load(b.support->key + i);
-    const i32x4 take_a = ka >= kb;
-    for (int j = 0; j < 4; ++j) from_a |= (take_a[j] != 0 ? 1u : 0u) << (i + j);
+    from_a |= mask_bits(ka >= kb) << i;
     store(key + i, max(ka, kb) + load(kTable.reach + i));
   }
-  // Rows whose centres lie within −v ≤ h₀ and v ≤ h₈.
-  const int r0 = std::max(0, static_cast<int>(std::ceil(-key[0] / (16.0f * 256.0f))));
-  const int r1 = std::min(image.height - 1, static_cast<int>(std::floor(key[8] / (16.0f * 256.0f))));
-  rows = std::max(0, r1 - r0 + 1);
-  if (rows == 0) return r0;
+  // Rows whose centres lie within −v ≤ h₀ and v ≤ h₈, sampled.
+  const int step = image.row_step;
+  // (Keys are integers in 16·Q8: a shift right by 12 is the floor in px.)
+  const int r0 = std::max(0, -(static_cast<std::int32_t>(key[0]) >> 12));
+  const int r1 = std::min(image.height - 1, static_cast<std::int32_t>(key[8]) >> 12);
+  const int first = (r0 + step - 1) & ~(step - 1);
+  if (first > r1) return {first, 0};
+  const int count = (r1 - first) / step + 1;
 
-  // Lines 0…6 the fixed right sides (directions 1…7), then the chords;
-  // the same for the left (9…15).
-  constexpr int kMaxLines = 7 + kDirections / 2;
-  float right_c[kMaxLines], right_s[kMaxLines], left_c[kMaxLines], left_s[kMaxLines];
+  // Lines in rows below `first`: the fixed sides' intercepts move by
+  // slope·first, exactly (slopes are multiples of ½).
+  SideLines right, left;
   for (int k = 1; k < 8; ++k) {
-    right_c[k - 1] = key[k] * kTable.scale[k], right_s[k - 1] = kTable.slope[k];
-    left_c[k - 1] = key[k + 8] * kTable.scale[k + 8], left_s[k - 1] = kTable.slope[k + 8];
+    const float top = static_cast<float>(first);
+    right.c[k - 1] = key[k] * kTable.scale[k] + kTable.slope[k] * top, right.s[k - 1] = kTable.slope[k];
+    left.c[k - 1] = key[k + 8] * kTable.scale[k + 8] + kTable.slope[k + 8] * top, left.s[k - 1] = kTable.slope[k + 8];
   }
-  int right_lines = 7, left_lines = 7;
+  right.c[7] = static_cast<float>(image.width), right.s[7] = 0;
+  left.c[7] = -1, left.s[7] = 0;
+  int right_chords = 0, left_chords = 0;
   const unsigned changes = from_a ^ ((from_a >> 1) | (from_a << (kDirections - 1)));  // bit k: k and k + 1 differ
   for (unsigned bits = changes & 0xffffu; bits != 0; bits &= bits - 1) {
     const int k = __builtin_ctz(bits), next = (k + 1) % kDirections;
@@ -140,41 +152,42 @@ int scan_segment(Ring a, Ring b, const SpanImage& image, std::int16_t* x0, std::
     const Ring& rn = (from_a >> next) & 1u ? a : b;
     const PixelQ8 p = rk.points[point_of(rk.support->key[k], k)];
     const PixelQ8 q = rn.points[point_of(rn.support->key[next], next)];
-    if (k < 8) {
-      if (side_line(p, q, true, r0, right_c[right_lines], right_s[right_lines])) ++right_lines;
-    } else {
-      if (side_line(p, q, false, r0, left_c[left_lines], left_s[left_lines])) ++left_lines;
+    SideLines& side = k < 8 ? right : left;
+    int& chords = k < 8 ? right_chords : left_chords;
+    const int slot = chords == 0 ? kFixedLines - 1 : side.count;
+    if (side_line(p, q, k < 8, first, side.c[slot], side.s[slot])) {
+      if (chords++ > 0) ++side.count;
     }
   }
 
   const float width = static_cast<float>(image.width);
-  const float step = static_cast<float>(image.row_step);
-  const f32x4 lane_y = f32x4{0, 1, 2, 3} * step;
-  const int first = (r0 + image.row_step - 1) & ~(image.row_step - 1);
-  for (int r = first; r <= r1; r += 4 * image.row_step) {
-    const f32x4 y = splat(static_cast<float>(r)) + lane_y, below_top = y - splat(static_cast<float>(r0));
-    f32x4 right = splat(width), left = splat(-1.0f);
-    for (int l = 0; l < 7; ++l) {
-      right = min(right, splat(right_c[l]) + splat(right_s[l]) * y);
-      left = max(left, splat(left_c[l]) + splat(left_s[l]) * y);
+  const f32x4 lane_y = f32x4{0, 1, 2, 3} * static_cast<float>(step);
+  const std::int32_t w = image.width + 1;
+  // Broadcast once: each line is then a multiply, an add and a min per
+  // four rows, its operands straight from memory.
+  f32x4 rc[kFixedLines + kDirections / 2], rs[kFixedLines + kDirections / 2];
+  f32x4 lc[kFixedLines + kDirections / 2], ls[kFixedLines + kDirections / 2];
+  for (int n = 0; n < right.count; ++n) rc[n] = splat(right.c[n]), rs[n] = splat(right.s[n]);
+  for (int n = 0; n < left.count; ++n) lc[n] = splat(left.c[n]), ls[n] = splat(left.s[n]);
+  for (int i = 0; i < count; i += 4) {
+    const f32x4 y = splat(static_cast<float>(i * step)) + lane_y;
+    f32x4 r = rc[0] + rs[0] * y, l = lc[0] + ls[0] * y;
+    for (int n = 1; n < kFixedLines; ++n) {
+      r = min(r, rc[n] + rs[n] * y);
+      l = max(l, lc[n] + ls[n] * y);
     }
-    for (int l = 7; l < right_lines; ++l) right = min(right, splat(right_c[l]) + splat(right_s[l]) * below_top);
-    for (int l = 7; l < left_lines; ++l) left = max(left, splat(left_c[l]) + splat(left_s[l]) * below_top);
-    right = max(right, splat(-1.0f));
-    left = min(left, splat(width));
-    // Pixel centres x with left ≤ x ≤ right: floor(right) = trunc(right + 1) − 1,
-    // ceil(left) = W − floor(W − left) for an integer W ≥ left.
-    const i32x4 hi = trunc(right + splat(1.0f)) - 1;
-    const std::int32_t w = image.width + 1;
-    const i32x4 lo = w - trunc(splat(static_cast<float>(w)) - left);
-    for (int j = 0; j < 4; ++j) {
-      const int row = r + j * image.row_step;
-      if (row > r1) break;
-      x0[row - r0] = static_cast<std::int16_t>(lo[j]);
-      x1[row - r0] = static_cast<std::int16_t>(hi[j]);
-    }
+    for (int n = kFixedLines; n < right.count; ++n) r = min(r, rc[n] + rs[n] * y);
+    for (int n = kFixedLines; n < left.count; ++n) l = max(l, lc[n] + ls[n] * y);
+    // Pixel centres x with l ≤ x ≤ r within the image: floor(r) =
+    // trunc(r + 1) − 1 for r ≥ −1, ceil(l) = W − floor(W − l) for W ≥ l.
+    r = max(min(r, splat(width - 1)), splat(-1.0f));
+    l = min(max(l, splat(0.0f)), splat(width));
+    const i32x4 hi = trunc(r + splat(1.0f)) - 1;
+    const i32x4 lo = w - trunc(splat(static_cast<float>(w)) - l);
+    std::memcpy(x0 + i, &lo, sizeof lo);
+    std::memcpy(x1 + i, &hi, sizeof hi);
   }
-  return r0;
+  return {first, count};
 }
 
 }  // namespace spinewatch

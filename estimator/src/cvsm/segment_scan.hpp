@@ -35,10 +35,10 @@ struct Ring {
   const PixelQ8* points;  // kControlPoints of them
 };
 
-// Fills x0[r − r0], x1[r − r0] (first and last pixel, clamped to −1…width)
-// for the sampled rows r of the solid between rings a and b, and returns
-// r0; `rows` receives r1 − r0 + 1 (0 when the solid misses the image).
-// x0 and x1 must hold `height` entries.
-int scan_segment(Ring a, Ring b, const SpanImage& image, std::int16_t* x0, std::int16_t* x1, int& rows);
+// Spans of the solid between rings a and b on its sampled rows: x0[i] and
+// x1[i], the first and last pixel of row first + i·row_step, within
+// 0…width − 1 (x0 > x1: the row misses the image). Written four rows at
+// a time: x0 and x1 must hold height + 3 entries.
+SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1);
 
 }  // namespace spinewatch

@@ -154,10 +154,9 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
   for (const auto& chain : model.chains) segments += chain.size() > 0 ? chain.size() - 1 : 0;
   if (cache.segment_planes.size() != segments) {
     cache.segment_planes.assign(segments, {UINT32_MAX, UINT32_MAX, 0, 0});
-    cache.segment_r0.assign(segments, 0);
-    cache.segment_rows.assign(segments, 0);
-    cache.x0.assign(segments * static_cast<std::size_t>(height_), 0);
-    cache.x1.assign(segments * static_cast<std::size_t>(height_), 0);
+    cache.segment_rows.assign(segments, {});
+    cache.x0.assign(segments * span_stride(), 0);
+    cache.x1.assign(segments * span_stride(), 0);
   }
   const SpanImage image{width_, height_, row_step_};
   std::size_t s = 0;
@@ -170,22 +169,20 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
                                              cache.plane_version[ua], cache.plane_version[ub]};
       if (cache.segment_planes[s] != key) {
         cache.segment_planes[s] = key;
-        int rows = 0;
-        cache.segment_r0[s] = scan_segment({&cache.support[ua], proj.data() + ua * kControlPoints}, {&cache.support[ub], proj.data() + ub * kControlPoints}, image, cache.x0.data() + s * static_cast<std::size_t>(height_),
-                                           cache.x1.data() + s * static_cast<std::size_t>(height_), rows);
-        cache.segment_rows[s] = rows;
+        cache.segment_rows[s] = scan_segment({&cache.support[ua], proj.data() + ua * kControlPoints},
+                                             {&cache.support[ub], proj.data() + ub * kControlPoints}, image,
+                                             cache.x0.data() + s * span_stride(), cache.x1.data() + s * span_stride());
       }
-      const int r0 = cache.segment_r0[s], n = cache.segment_rows[s];
-      const std::int16_t* x0 = cache.x0.data() + s * static_cast<std::size_t>(height_);
-      const std::int16_t* x1 = cache.x1.data() + s * static_cast<std::size_t>(height_);
-      for (int r = first_sampled(r0) - r0; r < n; r += row_step_) {
-        const int lo = std::max<int>(0, x0[r]), hi = std::min<int>(width_ - 1, x1[r]);
-        if (lo > hi) continue;
-        set_bits(rows_.data() + static_cast<std::ptrdiff_t>(r + r0) * words_, lo, hi);
-      }
-      if (n > 0) {
-        y_lo_ = std::min(y_lo_, r0);
-        y_hi_ = std::max(y_hi_, r0 + n - 1);
+      const SegmentRows rows = cache.segment_rows[s];
+      const std::int32_t* x0 = cache.x0.data() + s * span_stride();
+      const std::int32_t* x1 = cache.x1.data() + s * span_stride();
+      std::uint64_t* row = rows_.data() + static_cast<std::ptrdiff_t>(rows.first) * words_;
+      const std::ptrdiff_t stride = static_cast<std::ptrdiff_t>(words_) * row_step_;
+      for (int i = 0; i < rows.count; ++i, row += stride)
+        if (x0[i] <= x1[i]) set_bits(row, x0[i], x1[i]);
+      if (rows.count > 0) {
+        y_lo_ = std::min(y_lo_, rows.first);
+        y_hi_ = std::max(y_hi_, rows.first + (rows.count - 1) * row_step_);
       }
     }
   return true;

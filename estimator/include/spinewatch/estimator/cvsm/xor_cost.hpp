@@ -49,6 +49,11 @@ struct RingSupport {
   alignas(16) float key[kCount];
 };
 
+// Sampled rows first, first + row step, … (count of them) of one segment.
+struct SegmentRows {
+  int first = 0, count = 0;
+};
+
 class XorCost {
  public:
   XorCost(const CameraRig& rig, int width, int height);
@@ -81,13 +86,14 @@ class XorCost {
     std::uint32_t version_counter = 0;
     std::vector<RingSupport> support;  // per plane
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
-    std::vector<int> segment_r0, segment_rows;
-    std::vector<std::int16_t> x0, x1;  // segments × height spans (first, last pixel)
+    std::vector<SegmentRows> segment_rows;  // per segment: its first sampled row and how many
+    std::vector<std::int32_t> x0, x1;  // per segment span_stride() spans (first, last pixel)
   };
   // Projects and fills the model's rows of view `view` into rows_; returns
   // false when a point is behind the camera.
   bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
   bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
+  std::size_t span_stride() const { return static_cast<std::size_t>(height_) + 3; }  // written four rows at a time
 
   std::array<FixedCamera, 2> cameras_;
   std::array<std::array<float, 12>, 2> pf_{};  // K·[R|t] per view (distortion-free path)
