@@ -37,6 +37,13 @@ constexpr DirectionTable direction_table() {
   return t;
 }
 constexpr DirectionTable kTable = direction_table();
+constexpr bool fixed_slopes_are(std::array<float, 7> slopes) {
+  for (int k = 1; k < 8; ++k)
+    if (kTable.slope[k] != slopes[static_cast<std::size_t>(k - 1)] || kTable.slope[k + 8] != slopes[static_cast<std::size_t>(k - 1)])
+      return false;
+  return true;
+}
+static_assert(fixed_slopes_are({2, 1, 0.5f, 0, -0.5f, -1, -2}), "the row loop adds these multiples of y");
 
 constexpr float kFar = 1e9f;  // beyond any key
 
@@ -139,8 +146,8 @@ SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x
   SideLines right, left;
   for (int k = 1; k < 8; ++k) {
     const float top = static_cast<float>(first);
-    right.c[k - 1] = key[k] * kTable.scale[k] + kTable.slope[k] * top, right.s[k - 1] = kTable.slope[k];
-    left.c[k - 1] = key[k + 8] * kTable.scale[k + 8] + kTable.slope[k + 8] * top, left.s[k - 1] = kTable.slope[k + 8];
+    right.c[k - 1] = key[k] * kTable.scale[k] + kTable.slope[k] * top;
+    left.c[k - 1] = key[k + 8] * kTable.scale[k + 8] + kTable.slope[k + 8] * top;
   }
   right.c[7] = static_cast<float>(image.width), right.s[7] = 0;
   left.c[7] = -1, left.s[7] = 0;
@@ -163,19 +170,20 @@ SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x
   const float width = static_cast<float>(image.width);
   const f32x4 lane_y = f32x4{0, 1, 2, 3} * static_cast<float>(step);
   const std::int32_t w = image.width + 1;
-  // Broadcast once: each line is then a multiply, an add and a min per
-  // four rows, its operands straight from memory.
+  // Broadcast once. The fixed sides' slopes are 2, 1, ½, 0, −½, −1, −2
+  // on both sides: an add or a subtract of y, 2y or y/2 each.
   f32x4 rc[kFixedLines + kDirections / 2], rs[kFixedLines + kDirections / 2];
   f32x4 lc[kFixedLines + kDirections / 2], ls[kFixedLines + kDirections / 2];
-  for (int n = 0; n < right.count; ++n) rc[n] = splat(right.c[n]), rs[n] = splat(right.s[n]);
-  for (int n = 0; n < left.count; ++n) lc[n] = splat(left.c[n]), ls[n] = splat(left.s[n]);
+  for (int n = 0; n < right.count; ++n) rc[n] = splat(right.c[n]);
+  for (int n = 0; n < left.count; ++n) lc[n] = splat(left.c[n]);
+  for (int n = kFixedLines - 1; n < right.count; ++n) rs[n] = splat(right.s[n]);
+  for (int n = kFixedLines - 1; n < left.count; ++n) ls[n] = splat(left.s[n]);
   for (int i = 0; i < count; i += 4) {
-    const f32x4 y = splat(static_cast<float>(i * step)) + lane_y;
-    f32x4 r = rc[0] + rs[0] * y, l = lc[0] + ls[0] * y;
-    for (int n = 1; n < kFixedLines; ++n) {
-      r = min(r, rc[n] + rs[n] * y);
-      l = max(l, lc[n] + ls[n] * y);
-    }
+    const f32x4 y = splat(static_cast<float>(i * step)) + lane_y, y2 = y + y, yh = y * splat(0.5f);
+    f32x4 r = min(min(min(rc[0] + y2, rc[1] + y), min(rc[2] + yh, rc[3])),
+                  min(min(rc[4] - yh, rc[5] - y), min(rc[6] - y2, rc[7] + rs[7] * y)));
+    f32x4 l = max(max(max(lc[0] + y2, lc[1] + y), max(lc[2] + yh, lc[3])),
+                  max(max(lc[4] - yh, lc[5] - y), max(lc[6] - y2, lc[7] + ls[7] * y)));
     for (int n = kFixedLines; n < right.count; ++n) r = min(r, rc[n] + rs[n] * y);
     for (int n = kFixedLines; n < left.count; ++n) l = max(l, lc[n] + ls[n] * y);
     // Pixel centres x with l ≤ x ≤ r within the image: floor(r) =
