@@ -47,6 +47,14 @@ static_assert(fixed_slopes_are({2, 1, 0.5f, 0, -0.5f, -1, -2}), "the row loop ad
 
 constexpr float kFar = 1e9f;  // beyond any key
 
+// A 16-gon of these directions circumscribing a circle has 1.45 % more
+// area than the circle (r²·Σ tan(gap/2) over eight gaps of 26.6° and eight
+// of 18.4° = 3.187 r² against π r²); its sides pulled in by 0.72 % of the
+// radius make it area-neutral. Measured over 8 noise seeds × 9 phantom
+// scenarios × 2 subjects: 7 runs past 10 mm instead of 9, neck mean
+// 6.40 mm instead of 6.59 (docs/cvsm.md).
+constexpr float kSidesIn = 0.0072f;
+
 // The point of a ring that a packed key names.
 int point_of(float key, int direction) {
   const auto k = static_cast<std::int32_t>(key);
@@ -97,6 +105,15 @@ void ring_support(const PixelQ8* ring, RingSupport& out) {
     lo0 = min(lo0, k0 + last);
     lo1 = min(lo1, k1 + last);
   }
+  // Sides in by a fraction of the ring's half-extent along them (whole
+  // Q8 units, so the packed index stays), keeping the circumscribed area
+  // (below) what the ring's is.
+  const f32x4 in0 = to_float(trunc((hi0 - lo0) * splat(kSidesIn / 32))) * splat(16.0f);
+  const f32x4 in1 = to_float(trunc((hi1 - lo1) * splat(kSidesIn / 32))) * splat(16.0f);
+  hi0 -= in0;
+  lo0 += in0;
+  hi1 -= in1;
+  lo1 += in1;
   store(out.key, hi0);
   store(out.key + 4, hi1);
   store(out.key + 8, -lo0);

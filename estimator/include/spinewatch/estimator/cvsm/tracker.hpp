@@ -25,7 +25,7 @@ struct CvsmOptions {
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
-  int local_budget = 12;         // cost evaluations per tracked frame
+  int local_budget = 16;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation
   // Tuning, not configuration: the searches (local and global) compare
   // candidates on every n-th row (a power of two) ...
