@@ -46,11 +46,18 @@ inline unsigned mask_bits(i32x4 m) {
 // Rounds toward zero, which is the floor for x ≥ 0.
 inline i32x4 trunc(f32x4 x) { return __builtin_convertvector(x, i32x4); }
 inline f32x4 to_float(i32x4 x) { return __builtin_convertvector(x, f32x4); }
-// The nearest integer, halves up, for |x| < 2^31.
+// The nearest integer (halves to even, the CPU's own rounding; the
+// generic fallback rounds halves up), for |x| < 2^31.
+#if defined(__SSE2__)
+inline i32x4 round(f32x4 x) { return std::bit_cast<i32x4>(_mm_cvtps_epi32(x)); }
+#elif defined(__ARM_NEON)
+inline i32x4 round(f32x4 x) { return vcvtnq_s32_f32(x); }
+#else
 inline i32x4 round(f32x4 x) {
   const f32x4 up = x + splat(0.5f);
   const i32x4 t = trunc(up);
   return t + (to_float(t) > up);  // a true lane is −1: trunc went up, step down
 }
+#endif
 
 }  // namespace spinewatch::lanes

@@ -78,12 +78,11 @@ bool side_line(PixelQ8 p, PixelQ8 q, bool right, int top, float& c, float& s) {
   return true;
 }
 
-// Per side the 7 fixed lines and one chord (a line that never binds when
-// there is none), then any further chords: rings that cross on screen.
-constexpr int kFixedLines = 8;
-struct SideLines {
-  float c[kFixedLines + kDirections / 2], s[kFixedLines + kDirections / 2];
-  int count = kFixedLines;
+// The sides from one ring to the other on one side of the polygon: one,
+// unless the rings cross on screen.
+struct Chords {
+  float c[kDirections / 2], s[kDirections / 2];
+  int count = 0;
 };
 
 }  // namespace
@@ -159,16 +158,18 @@ SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x
   const int count = (r1 - first) / step + 1;
 
   // Lines in rows below `first`: the fixed sides' intercepts move by
-  // slope·first, exactly (slopes are multiples of ½).
-  SideLines right, left;
-  for (int k = 1; k < 8; ++k) {
-    const float top = static_cast<float>(first);
-    right.c[k - 1] = key[k] * kTable.scale[k] + kTable.slope[k] * top;
-    left.c[k - 1] = key[k + 8] * kTable.scale[k + 8] + kTable.slope[k + 8] * top;
-  }
-  right.c[7] = static_cast<float>(image.width), right.s[7] = 0;
-  left.c[7] = -1, left.s[7] = 0;
-  int right_chords = 0, left_chords = 0;
+  // slope·first, exactly (slopes are multiples of ½). Directions 0 and 8
+  // (scale 0) bound rows and come out 0 here, unused.
+  alignas(16) float fixed[kDirections];
+  for (int i = 0; i < kDirections; i += 4)
+    store(fixed + i, load(key + i) * load(kTable.scale + i) + load(kTable.slope + i) * splat(static_cast<float>(first)));
+  // The image's edges are folded into the vertical sides (x ≤ width − 1,
+  // x ≥ 0); only a bound beyond the far edge is clamped below, for the
+  // conversions.
+  fixed[4] = std::min(fixed[4], static_cast<float>(image.width - 1));
+  fixed[12] = std::max(fixed[12], 0.0f);
+
+  Chords right, left;
   const unsigned changes = from_a ^ ((from_a >> 1) | (from_a << (kDirections - 1)));  // bit k: k and k + 1 differ
   for (unsigned bits = changes & 0xffffu; bits != 0; bits &= bits - 1) {
     const int k = __builtin_ctz(bits), next = (k + 1) % kDirections;
@@ -176,37 +177,35 @@ SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x
     const Ring& rn = (from_a >> next) & 1u ? a : b;
     const PixelQ8 p = rk.points[point_of(rk.support->key[k], k)];
     const PixelQ8 q = rn.points[point_of(rn.support->key[next], next)];
-    SideLines& side = k < 8 ? right : left;
-    int& chords = k < 8 ? right_chords : left_chords;
-    const int slot = chords == 0 ? kFixedLines - 1 : side.count;
-    if (side_line(p, q, k < 8, first, side.c[slot], side.s[slot])) {
-      if (chords++ > 0) ++side.count;
-    }
+    Chords& side = k < 8 ? right : left;
+    if (side_line(p, q, k < 8, first, side.c[side.count], side.s[side.count])) ++side.count;
   }
 
   const float width = static_cast<float>(image.width);
   const f32x4 lane_y = f32x4{0, 1, 2, 3} * static_cast<float>(step);
   const std::int32_t w = image.width + 1;
-  // Broadcast once. The fixed sides' slopes are 2, 1, ½, 0, −½, −1, −2
-  // on both sides: an add or a subtract of y, 2y or y/2 each.
-  f32x4 rc[kFixedLines + kDirections / 2], rs[kFixedLines + kDirections / 2];
-  f32x4 lc[kFixedLines + kDirections / 2], ls[kFixedLines + kDirections / 2];
-  for (int n = 0; n < right.count; ++n) rc[n] = splat(right.c[n]);
-  for (int n = 0; n < left.count; ++n) lc[n] = splat(left.c[n]);
-  for (int n = kFixedLines - 1; n < right.count; ++n) rs[n] = splat(right.s[n]);
-  for (int n = kFixedLines - 1; n < left.count; ++n) ls[n] = splat(left.s[n]);
+  // Broadcast once: the fixed sides, then the chords (a line that never
+  // binds when there is none). The fixed sides' slopes are 2, 1, ½, 0,
+  // −½, −1, −2 on both sides: an add or a subtract of y, 2y or y/2 each.
+  constexpr int kLines = 7 + kDirections / 2;
+  f32x4 rc[kLines], rs[kLines], lc[kLines], ls[kLines];
+  for (int n = 0; n < 7; ++n) rc[n] = splat(fixed[n + 1]), lc[n] = splat(fixed[n + 9]);
+  rc[7] = splat(width), rs[7] = splat(0.0f), lc[7] = splat(-1.0f), ls[7] = splat(0.0f);
+  for (int n = 0; n < right.count; ++n) rc[7 + n] = splat(right.c[n]), rs[7 + n] = splat(right.s[n]);
+  for (int n = 0; n < left.count; ++n) lc[7 + n] = splat(left.c[n]), ls[7 + n] = splat(left.s[n]);
+  const int right_lines = 7 + std::max(1, right.count), left_lines = 7 + std::max(1, left.count);
   for (int i = 0; i < count; i += 4) {
     const f32x4 y = splat(static_cast<float>(i * step)) + lane_y, y2 = y + y, yh = y * splat(0.5f);
     f32x4 r = min(min(min(rc[0] + y2, rc[1] + y), min(rc[2] + yh, rc[3])),
                   min(min(rc[4] - yh, rc[5] - y), min(rc[6] - y2, rc[7] + rs[7] * y)));
     f32x4 l = max(max(max(lc[0] + y2, lc[1] + y), max(lc[2] + yh, lc[3])),
                   max(max(lc[4] - yh, lc[5] - y), max(lc[6] - y2, lc[7] + ls[7] * y)));
-    for (int n = kFixedLines; n < right.count; ++n) r = min(r, rc[n] + rs[n] * y);
-    for (int n = kFixedLines; n < left.count; ++n) l = max(l, lc[n] + ls[n] * y);
+    for (int n = 8; n < right_lines; ++n) r = min(r, rc[n] + rs[n] * y);
+    for (int n = 8; n < left_lines; ++n) l = max(l, lc[n] + ls[n] * y);
     // Pixel centres x with l ≤ x ≤ r within the image: floor(r) =
     // trunc(r + 1) − 1 for r ≥ −1, ceil(l) = W − floor(W − l) for W ≥ l.
-    r = max(min(r, splat(width - 1)), splat(-1.0f));
-    l = min(max(l, splat(0.0f)), splat(width));
+    r = max(r, splat(-1.0f));
+    l = min(l, splat(width));
     const i32x4 hi = trunc(r + splat(1.0f)) - 1;
     const i32x4 lo = w - trunc(splat(static_cast<float>(w)) - l);
     std::memcpy(x0 + i, &lo, sizeof lo);

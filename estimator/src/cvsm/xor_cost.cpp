@@ -133,7 +133,10 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     if (!model.in_chain[p]) continue;
     const Eigen::Vector3d* w = points.data() + p * kControlPoints;
     Eigen::Vector3d* cached = cache.world.data() + p * kControlPoints;
-    if (std::memcmp(static_cast<const void*>(w), static_cast<const void*>(cached), sizeof(Eigen::Vector3d) * kControlPoints) != 0) {
+    // A moved plane's first point has almost always moved too: the call
+    // to compare the rest is then not made.
+    if (w[0] != cached[0] ||
+        std::memcmp(static_cast<const void*>(w), static_cast<const void*>(cached), sizeof(Eigen::Vector3d) * kControlPoints) != 0) {
       std::copy_n(w, kControlPoints, cached);
       // Versions come from one counter that never goes back, so a span
       // keyed on (planes, versions) cannot be mistaken for one of another
