@@ -9,6 +9,7 @@
 
 #include "cvsm_reference.hpp"
 #include "spinewatch/estimator/cvsm/fixed_camera.hpp"
+#include "spinewatch/estimator/cvsm/segment_scan.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
@@ -154,6 +155,43 @@ TEST(XorCost, ProjectsLikeTheCameraModel) {
   std::printf("worst projection error: %.5f px\n", worst);
 }
 
+// Rings flattened to a point or a horizontal line have no sides that
+// bound columns: the segment still covers exactly the pixels whose centres
+// lie within half a pixel (|du| + |dv| ≤ ½), as fillPoly's outline does.
+TEST(SegmentScan, DegenerateRingsCoverTheirOwnPixels) {
+  auto span_of = [](const std::array<PixelQ8, kControlPoints>& ring, int& first, std::vector<std::pair<int, int>>& spans) {
+    RingSupport support;
+    ring_support(ring.data(), support);
+    std::vector<std::int32_t> x0(kH + 3), x1(kH + 3);
+    const SegmentRows rows = scan_segment({&support, ring.data()}, {&support, ring.data()}, SpanImage{kW, kH, 1}, x0.data(), x1.data());
+    first = rows.first;
+    spans.clear();
+    for (int i = 0; i < rows.count; ++i) spans.emplace_back(x0[static_cast<std::size_t>(i)], x1[static_cast<std::size_t>(i)]);
+  };
+  std::array<PixelQ8, kControlPoints> ring;
+  int first = 0;
+  std::vector<std::pair<int, int>> spans;
+
+  ring.fill(PixelQ8{100 * 256 + 26, 50 * 256 + 26});  // (100.1, 50.1)
+  span_of(ring, first, spans);
+  EXPECT_EQ(first, 50);
+  EXPECT_EQ(spans, (std::vector<std::pair<int, int>>{{100, 100}}));
+
+  for (int k = 0; k < kControlPoints; ++k) ring[static_cast<std::size_t>(k)] = PixelQ8{(100 + (k * 40) / 11) * 256, 50 * 256};
+  span_of(ring, first, spans);
+  EXPECT_EQ(first, 50);
+  EXPECT_EQ(spans, (std::vector<std::pair<int, int>>{{100, 140}}));
+
+  // Off the left edge and below the image: nothing but the clipped part.
+  ring.fill(PixelQ8{-5 * 256, 120 * 256});
+  ring[0] = PixelQ8{3 * 256, 120 * 256};
+  span_of(ring, first, spans);
+  EXPECT_EQ(spans, (std::vector<std::pair<int, int>>{{0, 3}}));
+  ring.fill(PixelQ8{10 * 256, (kH + 2) * 256});
+  span_of(ring, first, spans);
+  EXPECT_TRUE(spans.empty());
+}
+
 TEST(XorCost, PrunedCountIsALowerBoundAboveTheLimit) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel model = other_subject();
@@ -173,9 +211,8 @@ TEST(XorCost, PrunedCountIsALowerBoundAboveTheLimit) {
   EXPECT_LT(cost.evaluate(model, pts).cost(), 0.02);  // boundary pixels only
 }
 
-// The incremental state (cached projections, ring extremes climbed from
-// the last candidate's, segment spans, row sampling) must never change a
-// result: a cost that has seen other candidates, other models and another
+// The incremental state (cached projections, ring supports, segment
+// spans, row sampling) must never change a result: a cost that has seen other candidates, other models and another
 // row step draws exactly what a fresh one draws.
 TEST(XorCost, WarmCacheDrawsWhatAFreshCostDraws) {
   const CameraRig rig = CameraRig::default_rig();

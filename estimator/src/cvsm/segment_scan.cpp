@@ -1,4 +1,4 @@
-#include "segment_scan.hpp"
+#include "spinewatch/estimator/cvsm/segment_scan.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -123,7 +123,8 @@ void ring_support(const PixelQ8* ring, RingSupport& out) {
 // of the 16 directions by the farther ring, cut by the sides where the
 // farther ring changes from one to the other: their union's convex hull,
 // with its ring parts circumscribed by fixed-direction sides (at most
-// 1/cos 13.3° − 1 = 2.8 % of the ring's radius out, at a corner) and its
+// 1/cos 13.3° − 1 = 2.8 % of the ring's radius out, at a corner, before
+// ring_support pulls the sides in by 0.72 %) and its
 // long sides, which run from one ring to the other, as chords between the
 // two rings' extreme points (at most 1 − cos 13.3° = 2.7 % of the radius
 // in). Fixed directions alone would have cut a long limb segment's sides

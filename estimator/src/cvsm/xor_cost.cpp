@@ -1,7 +1,7 @@
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 #include "lanes.hpp"
-#include "segment_scan.hpp"
+#include "spinewatch/estimator/cvsm/segment_scan.hpp"
 
 #include <algorithm>
 #include <array>
@@ -126,7 +126,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     cache.support.resize(planes);
     proj.assign(points.size(), PixelQ8{});
   }
-  // Planes whose points moved: project again, reduce to the ring's extremes.
+  // Planes whose points moved: project again, reduce the ring to its support.
   // Only the planes the chains use (a thinned model leaves some out).
   bool in_front = true;
   for (std::size_t p = 0; p < planes; ++p) {

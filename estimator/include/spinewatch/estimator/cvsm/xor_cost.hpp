@@ -1,12 +1,14 @@
 #pragma once
 // The fit's cost, fast path: control points projected once per changed
-// control plane, each control ring reduced to its extreme points in eight
-// directions (an octagon, in Q8 pixels), the solid between two adjacent
-// rings scan-converted as the octagon of their union (per direction the
-// farther extreme) straight into packed rows, and the exclusive-or against the silhouette counted with
-// popcount on the model's rows only (silhouette pixels on other rows are
-// counted once, from per-row totals). A candidate is abandoned as soon as
-// its partial count exceeds the best so far.
+// control plane to Q8 pixels, each control ring reduced to how far it
+// reaches along 16 fixed directions, the solid between two adjacent rings
+// scan-converted as the polygon those bound (cut by the chords from one
+// ring to the other) straight into packed rows, four rows at a time
+// (src/cvsm/segment_scan.cpp), and the exclusive-or against the
+// silhouette counted with popcount on the model's rows only (silhouette
+// pixels on other rows are counted once, from per-row totals). A
+// candidate is abandoned as soon as its partial count exceeds the best so
+// far.
 //
 // Incremental: a candidate usually moves only some control planes (a spine
 // angle leaves the pelvis and legs where they were), so each view keeps the
@@ -42,7 +44,7 @@ struct XorCounts {
 
 // A projected control ring reduced to how far it reaches along 16 fixed
 // directions and which of its points reaches farthest
-// (src/cvsm/segment_scan.hpp). Floats, which hold these integers exactly,
+// (cvsm/segment_scan.hpp). Floats, which hold these integers exactly,
 // so the scan loads four at a time.
 struct RingSupport {
   static constexpr int kCount = 16;

@@ -1,7 +1,8 @@
 #pragma once
 // Control rings reduced to their reach along fixed directions, and the row
 // spans of one CVSM segment, the solid between two adjacent rings, as the
-// fast cost scan-converts it (see segment_scan.cpp).
+// fast cost scan-converts it (src/cvsm/segment_scan.cpp). A detail of
+// XorCost, public for its tests.
 #include <array>
 #include <cstdint>
 
