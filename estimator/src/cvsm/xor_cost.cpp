@@ -170,7 +170,8 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
       // Spans are reused only for the same two planes at the same versions.
       const std::array<std::uint32_t, 4> key{static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
                                              cache.plane_version[ua], cache.plane_version[ub]};
-      if (cache.segment_planes[s] != key) {
+      const auto& cached = cache.segment_planes[s];
+      if (cached[0] != key[0] || cached[1] != key[1] || cached[2] != key[2] || cached[3] != key[3]) {
         cache.segment_planes[s] = key;
         cache.segment_rows[s] = scan_segment({&cache.support[ua], proj.data() + ua * kControlPoints},
                                              {&cache.support[ub], proj.data() + ub * kControlPoints}, image,
