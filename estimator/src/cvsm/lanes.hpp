@@ -7,10 +7,21 @@
 #include <cstdint>
 #include <cstring>
 
-#if defined(__SSE2__)
+// SPINEWATCH_LANES_GENERIC builds the fallback on any CPU (to test it).
+#if defined(SPINEWATCH_LANES_GENERIC)
+#define SPINEWATCH_LANES_SSE2 0
+#define SPINEWATCH_LANES_NEON 0
+#elif defined(__SSE2__)
+#define SPINEWATCH_LANES_SSE2 1
+#define SPINEWATCH_LANES_NEON 0
 #include <emmintrin.h>
 #elif defined(__ARM_NEON)
+#define SPINEWATCH_LANES_SSE2 0
+#define SPINEWATCH_LANES_NEON 1
 #include <arm_neon.h>
+#else
+#define SPINEWATCH_LANES_SSE2 0
+#define SPINEWATCH_LANES_NEON 0
 #endif
 
 namespace spinewatch::lanes {
@@ -25,12 +36,12 @@ inline f32x4 load(const float* p) {
   return v;
 }
 inline void store(float* p, f32x4 v) { std::memcpy(p, &v, sizeof v); }
-#if defined(__SSE2__)
+#if SPINEWATCH_LANES_SSE2
 inline f32x4 min(f32x4 a, f32x4 b) { return _mm_min_ps(a, b); }
 inline f32x4 max(f32x4 a, f32x4 b) { return _mm_max_ps(a, b); }
 // Bit j: lane j of a comparison is true.
 inline unsigned mask_bits(i32x4 m) { return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(m))); }
-#elif defined(__ARM_NEON)
+#elif SPINEWATCH_LANES_NEON
 inline f32x4 min(f32x4 a, f32x4 b) { return vminq_f32(a, b); }
 inline f32x4 max(f32x4 a, f32x4 b) { return vmaxq_f32(a, b); }
 inline unsigned mask_bits(i32x4 m) {
@@ -48,9 +59,9 @@ inline i32x4 trunc(f32x4 x) { return __builtin_convertvector(x, i32x4); }
 inline f32x4 to_float(i32x4 x) { return __builtin_convertvector(x, f32x4); }
 // The nearest integer (halves to even, the CPU's own rounding; the
 // generic fallback rounds halves up), for |x| < 2^31.
-#if defined(__SSE2__)
+#if SPINEWATCH_LANES_SSE2
 inline i32x4 round(f32x4 x) { return std::bit_cast<i32x4>(_mm_cvtps_epi32(x)); }
-#elif defined(__ARM_NEON)
+#elif SPINEWATCH_LANES_NEON
 inline i32x4 round(f32x4 x) { return vcvtnq_s32_f32(x); }
 #else
 inline i32x4 round(f32x4 x) {
