@@ -95,14 +95,22 @@ void ring_support(const PixelQ8* ring, RingSupport& out) {
   const f32x4 du0 = load(kTable.du16), du1 = load(kTable.du16 + 4);
   const f32x4 dv0 = load(kTable.dv16), dv1 = load(kTable.dv16 + 4);
   f32x4 hi0 = splat(-kFar), hi1 = hi0, lo0 = splat(kFar), lo1 = lo0;
-  for (int i = 0; i < kControlPoints; ++i) {
-    const f32x4 u = splat(static_cast<float>(ring[i].u)), v = splat(static_cast<float>(ring[i].v));
+  auto add = [&](f32x4 u, f32x4 v, int i) {
     const f32x4 k0 = du0 * u + dv0 * v, k1 = du1 * u + dv1 * v;
     const f32x4 first = splat(static_cast<float>(15 - i)), last = splat(static_cast<float>(i));
     hi0 = max(hi0, k0 + first);
     hi1 = max(hi1, k1 + first);
     lo0 = min(lo0, k0 + last);
     lo1 = min(lo1, k1 + last);
+  };
+  // Two points (u, v, u, v) converted per instruction, then broadcast.
+  static_assert(kControlPoints % 2 == 0 && sizeof(PixelQ8) == 8);
+  for (int i = 0; i < kControlPoints; i += 2) {
+    i32x4 q;
+    std::memcpy(&q, ring + i, sizeof q);
+    const f32x4 uv = to_float(q);
+    add(__builtin_shufflevector(uv, uv, 0, 0, 0, 0), __builtin_shufflevector(uv, uv, 1, 1, 1, 1), i);
+    add(__builtin_shufflevector(uv, uv, 2, 2, 2, 2), __builtin_shufflevector(uv, uv, 3, 3, 3, 3), i + 1);
   }
   // Sides in by a fraction of the ring's half-extent along them (whole
   // Q8 units, so the packed index stays), keeping the circumscribed area
