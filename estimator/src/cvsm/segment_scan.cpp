@@ -51,8 +51,9 @@ constexpr float kFar = 1e9f;  // beyond any key
 // area than the circle (r²·Σ tan(gap/2) over eight gaps of 26.6° and eight
 // of 18.4° = 3.187 r² against π r²); its sides pulled in by 0.72 % of the
 // radius make it area-neutral. Measured over 8 noise seeds × 9 phantom
-// scenarios × 2 subjects: 7 runs past 10 mm instead of 9, neck mean
-// 6.40 mm instead of 6.59 (docs/cvsm.md).
+// scenarios × 2 subjects with a search budget of 12: 7 neck means past
+// 10 mm instead of 9, their average 6.40 mm instead of 6.59; with the
+// budget of 16, 3 either way and a lower average (docs/cvsm.md).
 constexpr float kSidesIn = 0.0072f;
 
 // The point of a ring that a packed key names.

@@ -178,16 +178,17 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
                                              cache.x0.data() + s * span_stride(), cache.x1.data() + s * span_stride());
       }
       const SegmentRows rows = cache.segment_rows[s];
+      if (rows.count == 0) continue;  // (its first row may lie far outside the image)
       const std::int32_t* x0 = cache.x0.data() + s * span_stride();
       const std::int32_t* x1 = cache.x1.data() + s * span_stride();
       std::uint64_t* row = rows_.data() + static_cast<std::ptrdiff_t>(rows.first) * words_;
       const std::ptrdiff_t stride = static_cast<std::ptrdiff_t>(words_) * row_step_;
-      for (int i = 0; i < rows.count; ++i, row += stride)
-        if (x0[i] <= x1[i]) set_bits(row, x0[i], x1[i]);
-      if (rows.count > 0) {
-        y_lo_ = std::min(y_lo_, rows.first);
-        y_hi_ = std::max(y_hi_, rows.first + (rows.count - 1) * row_step_);
+      for (int r = 0;; row += stride) {  // (row never steps past the last row)
+        if (x0[r] <= x1[r]) set_bits(row, x0[r], x1[r]);
+        if (++r == rows.count) break;
       }
+      y_lo_ = std::min(y_lo_, rows.first);
+      y_hi_ = std::max(y_hi_, rows.first + (rows.count - 1) * row_step_);
     }
   return true;
 }
