@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
   app.add_option("--scenarios", scenarios, "phantom scenarios")->delimiter(',');
   app.add_option("--local-budget", local_budget, "CvsmOptions::local_budget");
   CLI11_PARSE(app, argc, argv);
+  if (seeds.first > seeds.second) {
+    std::fprintf(stderr, "--seeds %u-%u: the first seed is after the last\n", seeds.first, seeds.second);
+    return 2;
+  }
 
   CvsmOptions options;
   options.local_budget = local_budget;
@@ -39,7 +43,7 @@ int main(int argc, char** argv) {
       for (const auto& scenario : scenarios) {
         const auto st = test::run_phantom(scenario, subject, seed, options);
         if (!st.ok()) {
-          std::fprintf(stderr, "%s\n", st.error().message.c_str());
+          std::fprintf(stderr, "%s / %s: %s\n", subject.c_str(), scenario.c_str(), st.error().message.c_str());
           return 1;
         }
         const double neck = test::mean(st->neck), waist = test::mean(st->waist);
