@@ -41,15 +41,14 @@ inline f32x4 min(f32x4 a, f32x4 b) { return _mm_min_ps(a, b); }
 inline f32x4 max(f32x4 a, f32x4 b) { return _mm_max_ps(a, b); }
 // Bit j: lane j of a comparison is true.
 inline unsigned mask_bits(i32x4 m) { return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(m))); }
-#elif SPINEWATCH_LANES_NEON
+#else
+#if SPINEWATCH_LANES_NEON
 inline f32x4 min(f32x4 a, f32x4 b) { return vminq_f32(a, b); }
 inline f32x4 max(f32x4 a, f32x4 b) { return vmaxq_f32(a, b); }
-inline unsigned mask_bits(i32x4 m) {
-  return (m[0] != 0 ? 1u : 0u) | (m[1] != 0 ? 2u : 0u) | (m[2] != 0 ? 4u : 0u) | (m[3] != 0 ? 8u : 0u);
-}
 #else
 inline f32x4 min(f32x4 a, f32x4 b) { return a < b ? a : b; }
 inline f32x4 max(f32x4 a, f32x4 b) { return a > b ? a : b; }
+#endif
 inline unsigned mask_bits(i32x4 m) {
   return (m[0] != 0 ? 1u : 0u) | (m[1] != 0 ? 2u : 0u) | (m[2] != 0 ? 4u : 0u) | (m[3] != 0 ? 8u : 0u);
 }
