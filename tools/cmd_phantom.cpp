@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch::cli {
@@ -26,7 +27,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_flag("--list", opts->list, "List the scenarios and exit");
   cmd->add_option("--scenario", opts->scenario, "Scenario to play (see --list)")->check(CLI::IsMember(names));
   cmd->add_option("--out", opts->out, "Recording directory to write");
-  cmd->add_option("--subject", opts->subject, "Subject JSON (default: the generic adult, config/subjects/generic.json)");
+  cmd->add_option("--subject", opts->subject,
+                  "Subject JSON, or ansur:ID for that measured adult of ANSUR II (in $SPINEWATCH_ANSUR_DIR, else "
+                  "../shared/data/ansur2) (default: the generic adult, config/subjects/generic.json)");
   cmd->add_option("--frames", opts->frames, "Person frames after the empty ones (default: the scenario's)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", opts->phantom.seed, "Seed of everything random (texture, noise, the subject's joint factors)")
@@ -58,7 +61,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     p.scenario = opts->scenario;
     if (opts->frames > 0) p.frames = opts->frames;
     if (!opts->subject.empty()) {
-      auto subject = phantom::load_subject(opts->subject);
+      auto subject = opts->subject.starts_with(phantom::kAnsurSubjectPrefix)
+                         ? phantom::load_ansur_subject(opts->subject, phantom::default_ansur_dir())
+                         : phantom::load_subject(opts->subject);
       if (!subject) return exit_code.fail(subject.error());
       p.subject = std::move(subject).value();
     }

@@ -81,15 +81,39 @@ BodyModel::BodyModel(Subject subject, SubjectPosture posture, std::uint32_t seed
   }
   for (auto& s : shares_) s = {s.flexion / sum.flexion, s.lateral / sum.lateral, s.twist / sum.twist};
 
-  // Seated, the L5 body centre is about 0.11 × height above the seat (the
-  // ischial tuberosities are ~9 cm below the hip joints).
-  const double l5_height = posture_ == SubjectPosture::Seated ? subject_.seat_height_mm + 0.11 * subject_.height_mm
-                                                               : spec.l5_height_fraction * subject_.height_mm;
-  neutral_ = neutral_pose(spec, subject_.height_mm, Eigen::Vector3d(0, l5_height, 0));
+  // Standing, L5 is where the subject's landmarks put it, else at the
+  // generic fraction of height. Seated, the spine keeps its standing
+  // length and the head its height above T1, so a measured sitting height
+  // puts L5 at seat + sitting height − (stature − standing L5); without
+  // one, L5 is about 0.11 × height above the seat (the ischial tuberosities
+  // are ~9 cm below the hip joints).
+  const double standing_l5 = subject_.l5_height_mm.value_or(spec.l5_height_fraction * subject_.height_mm);
+  double l5_height = standing_l5;
+  if (posture_ == SubjectPosture::Seated)
+    l5_height = subject_.sitting_height_mm
+                    ? subject_.seat_height_mm + *subject_.sitting_height_mm - subject_.height_mm + standing_l5
+                    : subject_.seat_height_mm + 0.11 * subject_.height_mm;
+  // The generic chain scaled so that it spans the subject's T1–L5 height
+  // (its shape does not change with size, so the span is linear in the
+  // scale); without landmarks it is scaled by stature, as the estimator's.
+  double spine_size = subject_.height_mm;
+  if (subject_.t1_height_mm && subject_.l5_height_mm) {
+    const SpinePose reference = neutral_pose(spec, spec.reference_height_mm, Eigen::Vector3d::Zero());
+    const double reference_span = reference[kNeckIndex].body_center.y() - reference[kWaistIndex].body_center.y();
+    spine_size = spec.reference_height_mm * (*subject_.t1_height_mm - *subject_.l5_height_mm) / reference_span;
+  }
+  neutral_ = neutral_pose(spec, spine_size, Eigen::Vector3d(0, l5_height, 0));
+
+  // Standing T1, for the shoulders (the neutral spine is upright).
+  const double standing_t1 = neutral_[kNeckIndex].body_center.y() - l5_height + standing_l5;
+  hip_y_ = subject_.hip_joint_height_mm ? *subject_.hip_joint_height_mm - standing_l5 : -100 * scale_;
+  shoulder_ring_y_ = subject_.shoulder_height_mm ? *subject_.shoulder_height_mm - standing_t1 : 18 * scale_;
+  // The shoulder joints 33 mm (scaled) below the ring's level, as generic.
+  shoulder_joint_y_ = subject_.shoulder_height_mm ? shoulder_ring_y_ - 33 * scale_ : -15 * scale_;
 }
 
 Eigen::Vector3d BodyModel::hip_offset(double side) const {
-  return {35 * scale_, -100 * scale_, side * 0.5 * subject_.hips.half_width_mm};
+  return {35 * scale_, hip_y_, side * 0.5 * subject_.hips.half_width_mm};
 }
 
 SegmentalMotion BodyModel::segmental_motion(const TrunkMotion& m) const {
@@ -150,7 +174,7 @@ void BodyModel::add_trunk(const SpinePose& spine, std::vector<Solid>& out) const
   }
   const VertebraPose& t1 = spine[kNeckIndex];
   const double thoracic_back = -s.spine_depth_thoracic_mm;
-  rings.push_back(ring(t1.body_center, t1.q, 18 * scale_, thoracic_back + 0.2 * s.chest.half_depth_mm,
+  rings.push_back(ring(t1.body_center, t1.q, shoulder_ring_y_, thoracic_back + 0.2 * s.chest.half_depth_mm,
                        {0.5 * s.shoulder_width_mm, 0.6 * s.chest.half_depth_mm}));
   rings.push_back(ring(t1.body_center, t1.q, 50 * scale_, -1.0 * s.neck_radius_mm,
                        {1.3 * s.neck_radius_mm, 1.2 * s.neck_radius_mm}));
@@ -179,7 +203,7 @@ void BodyModel::add_head_and_arms(const SpinePose& spine, std::vector<Solid>& ou
   const Eigen::Quaterniond& thorax = spine[2].q;
   for (double side : {-1.0, 1.0}) {
     const Eigen::Vector3d shoulder =
-        t1.body_center + thorax * Eigen::Vector3d(-s.spine_depth_thoracic_mm + 0.75 * s.chest.half_depth_mm, -15 * scale_,
+        t1.body_center + thorax * Eigen::Vector3d(-s.spine_depth_thoracic_mm + 0.75 * s.chest.half_depth_mm, shoulder_joint_y_,
                                                   side * (0.5 * s.shoulder_width_mm - s.upper_arm_radius_mm));
     // Slightly abducted (7°), elbow slightly bent.
     const Eigen::Vector3d upper_dir(0, -std::cos(7 * kDeg), side * std::sin(7 * kDeg));

@@ -1,11 +1,14 @@
 #include "spinewatch/phantom/subject.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "spinewatch/estimator/anatomy/spine_spec.hpp"
 
 namespace spinewatch::phantom {
 namespace {
@@ -113,6 +116,51 @@ Status read_joint_factors(const FieldReader& root, Subject& subject) {
   return Ok{};
 }
 
+// An optional number: absent (or null) leaves `out` empty.
+Status optional_number(const FieldReader& r, const char* key, double min, double max, std::optional<double>& out) {
+  auto it = r.raw().find(key);
+  if (it == r.raw().end() || it->is_null()) return Ok{};
+  auto v = r.number(key, min, max);
+  if (!v) return v.error();
+  out = *v;
+  return Ok{};
+}
+
+// A measured person's landmarks, each optional, checked against the
+// height and against each other so that the body stays a body.
+Status read_landmarks(const FieldReader& root, Subject& subject) {
+  const double h = subject.height_mm;
+  const SpinePose generic = neutral_pose(generic_spine_spec(), h);
+  const double generic_t1 = generic[kNeckIndex].body_center.y(), generic_l5 = generic[kWaistIndex].body_center.y();
+  const double span = generic_t1 - generic_l5;
+  if (auto it = root.raw().find("spine_heights_mm"); it != root.raw().end() && !it->is_null()) {
+    auto r = root.object("spine_heights_mm");
+    if (!r) return r.error();
+    if (auto s = r->only({"t1", "l5"}); !s) return s;
+    double t1 = 0, l5 = 0;
+    if (auto s = read_numbers(*r, {{"t1", &t1, 0.6 * h, 0.95 * h}, {"l5", &l5, 0.4 * h, 0.75 * h}}); !s) return s;
+    // A T1–L5 span outside half to twice the generic one at this height
+    // is a typo, not a body.
+    if (t1 - l5 < 0.5 * span || t1 - l5 > 2 * span)
+      return r->error("t1", fmt::format("T1 {} mm above L5 is outside [{:.0f}, {:.0f}]", t1 - l5, 0.5 * span, 2 * span));
+    subject.t1_height_mm = t1;
+    subject.l5_height_mm = l5;
+  }
+  if (auto s = optional_number(root, "shoulder_height_mm", 0.6 * h, 0.95 * h, subject.shoulder_height_mm); !s) return s;
+  if (auto s = optional_number(root, "hip_joint_height_mm", 0.3 * h, 0.7 * h, subject.hip_joint_height_mm); !s) return s;
+  if (auto s = optional_number(root, "sitting_height_mm", 0.4 * h, 0.65 * h, subject.sitting_height_mm); !s) return s;
+  // The shoulder ring is drawn about T1 and the hip joints hang from L5:
+  // keep them where those solids can reach.
+  const double t1 = subject.t1_height_mm.value_or(generic_t1), l5 = subject.l5_height_mm.value_or(generic_l5);
+  if (subject.shoulder_height_mm && std::abs(*subject.shoulder_height_mm - t1) > 0.08 * h)
+    return root.error("shoulder_height_mm", fmt::format("{} is more than {:.0f} mm from T1 ({:.0f})",
+                                                        *subject.shoulder_height_mm, 0.08 * h, t1));
+  if (subject.hip_joint_height_mm && (l5 - *subject.hip_joint_height_mm < 0.02 * h || l5 - *subject.hip_joint_height_mm > 0.15 * h))
+    return root.error("hip_joint_height_mm", fmt::format("{} must lie {:.0f}–{:.0f} mm below L5 ({:.0f})",
+                                                         *subject.hip_joint_height_mm, 0.02 * h, 0.15 * h, l5));
+  return Ok{};
+}
+
 }  // namespace
 
 std::string_view to_string(SubjectPosture posture) {
@@ -123,7 +171,8 @@ Result<Subject> parse_subject(const json& j, std::string_view source) {
   if (!j.is_object()) return Error{fmt::format("{}: expected a JSON object", source)};
   const FieldReader root(j, source, "");
   if (auto s = root.only({"name", "height_mm", "mass_kg", "posture", "trunk", "shoulder_width_mm", "neck", "head", "arms",
-                          "legs", "spine_depth_mm", "seat_height_mm", "joint_factors"});
+                          "legs", "spine_depth_mm", "seat_height_mm", "joint_factors", "spine_heights_mm",
+                          "shoulder_height_mm", "hip_joint_height_mm", "sitting_height_mm"});
       !s)
     return s.error();
   Subject subject;
@@ -152,7 +201,7 @@ Result<Subject> parse_subject(const json& j, std::string_view source) {
     if (auto s = read_section(*trunk, key, *section); !s) return s.error();
 
   if (auto s = read_group(root, "neck", {{"radius_mm", &subject.neck_radius_mm, 20, 120},
-                                         {"length_mm", &subject.neck_length_mm, 30, 250}});
+                                         {"length_mm", &subject.neck_length_mm, 10, 250}});
       !s)
     return s.error();
   if (auto s = read_group(root, "head", {{"half_width_mm", &subject.head_half_width_mm, 40, 150},
@@ -194,6 +243,7 @@ Result<Subject> parse_subject(const json& j, std::string_view source) {
     return root.error("spine_depth_mm.lumbar", "puts the spine outside the waist (must be < 2 × waist.half_depth_mm − 20)");
 
   if (auto s = read_joint_factors(root, subject); !s) return s.error();
+  if (auto s = read_landmarks(root, subject); !s) return s.error();
   return subject;
 }
 
@@ -230,6 +280,10 @@ json to_json(const Subject& s) {
       {"spine_depth_mm", {{"thoracic", s.spine_depth_thoracic_mm}, {"lumbar", s.spine_depth_lumbar_mm}}},
       {"seat_height_mm", s.seat_height_mm},
   };
+  if (s.t1_height_mm && s.l5_height_mm) j["spine_heights_mm"] = {{"t1", *s.t1_height_mm}, {"l5", *s.l5_height_mm}};
+  if (s.shoulder_height_mm) j["shoulder_height_mm"] = *s.shoulder_height_mm;
+  if (s.hip_joint_height_mm) j["hip_joint_height_mm"] = *s.hip_joint_height_mm;
+  if (s.sitting_height_mm) j["sitting_height_mm"] = *s.sitting_height_mm;
   if (s.joint_factors) {
     json list = json::array();
     for (const auto& f : *s.joint_factors) list.push_back({{"flexion", f.flexion}, {"lateral", f.lateral}, {"twist", f.twist}});

@@ -55,6 +55,10 @@ class BodyModel {
   Subject subject_;
   SubjectPosture posture_;
   double scale_;  // subject height / reference height
+  // Offsets of the landmarks a measured subject may give (subject.hpp),
+  // generic ones scaled by height otherwise: hip joints below L5 (L5
+  // frame), top of the shoulder ring and shoulder joints above T1.
+  double hip_y_, shoulder_ring_y_, shoulder_joint_y_;
   std::array<JointAngles, kJointCount> factors_;
   std::array<JointAngles, kJointCount> shares_;  // each joint's share, renormalised
   SpinePose neutral_;

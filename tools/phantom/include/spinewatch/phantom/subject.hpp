@@ -38,6 +38,14 @@ struct Subject {
   // Body-centre distance in front of the back skin surface.
   double spine_depth_thoracic_mm = 60, spine_depth_lumbar_mm = 70;
   double seat_height_mm = 460;
+  // A measured person's landmarks (docs/anthropometry.md), each optional;
+  // absent, the generic proportions scaled by height_mm place them.
+  // Standing heights above the floor of T1's and L5's body centres: the
+  // spine between follows the generic curve, sized to span them.
+  std::optional<double> t1_height_mm, l5_height_mm;
+  std::optional<double> shoulder_height_mm;   // acromion, standing
+  std::optional<double> hip_joint_height_mm;  // hip-joint centres, standing
+  std::optional<double> sitting_height_mm;    // top of the head above the seat, sitting erect
   // Multipliers on each joint's share of a whole-spine bend (renormalised);
   // absent: drawn from the recording's seed, ±20 %.
   std::optional<std::array<JointAngles, kJointCount>> joint_factors;
