@@ -58,7 +58,7 @@ Error field_error(const CsvTable& table, std::size_t row, std::string_view colum
 }
 
 // A measurement: a positive finite number, nothing else in the field.
-Result<double> measurement(const CsvTable& table, std::size_t row, std::size_t index, std::string_view column) {
+Result<double> parse_measurement(const CsvTable& table, std::size_t row, std::size_t index, std::string_view column) {
   const std::string& text = table.field(row, index);
   double v = 0;
   const char* end = text.data() + text.size();
@@ -111,7 +111,7 @@ Result<std::vector<AnsurSubject>> parse_ansur_csv(std::string_view text, std::st
     else if (sex == "Female") s.sex = Sex::Female;
     else return field_error(*table, row, "Gender", fmt::format("\"{}\" is not Male or Female", sex));
     for (std::size_t k = 0; k < std::size(kColumns); ++k) {
-      auto v = measurement(*table, row, indices[k], kColumns[k].name);
+      auto v = parse_measurement(*table, row, indices[k], kColumns[k].name);
       if (!v) return v.error();
       s.*kColumns[k].field = *v * kColumns[k].scale;
     }

@@ -12,9 +12,14 @@ Result<std::vector<std::string>> split_line(std::string_view line, std::string_v
   for (std::size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
     if (quoted) {
-      if (c != '"') fields.back() += c;
-      else if (i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-      else quoted = false;
+      if (c != '"') {
+        fields.back() += c;
+      } else if (i + 1 < line.size() && line[i + 1] == '"') {
+        fields.back() += '"';  // "" inside quotes is one quote
+        ++i;
+      } else {
+        quoted = false;
+      }
     } else if (c == '"') {
       quoted = true;
     } else if (c == ',') {
