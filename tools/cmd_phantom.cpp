@@ -41,6 +41,11 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::Range(0.0, 0.5))
       ->capture_default_str();
   cmd->add_flag("--shadow", opts->phantom.shadow, "Cast a soft shadow onto the wall and floor");
+  cmd->add_option("--light-drift", opts->phantom.light_drift,
+                  "The light falls by this fraction over the recording, unevenly across each view")
+      ->check(CLI::Range(0.0, 0.6))
+      ->capture_default_str();
+  cmd->add_flag("--passer-by", opts->phantom.passer_by, "A second person walks behind the subject");
   cmd->add_option("--empty-frames", opts->phantom.empty_frames, "Empty-scene frames before the person appears")
       ->check(CLI::Range(0, 10000))
       ->capture_default_str();

@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recorder.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
@@ -87,6 +88,18 @@ class StopOnSignal {
   std::thread thread_;
 };
 
+// The station's stored background goes with the recording (interfaces.md
+// §2), so that replay sees the scene as the station did. Read before
+// recording: a bad file is reported before the cameras start, not after.
+Result<std::optional<BackgroundImages>> station_background(const Config& config) {
+  const auto& s = config.silhouette;
+  if (s.background_frontal.empty() && s.background_lateral.empty()) return std::optional<BackgroundImages>{};
+  auto images = load_background_images(s.background_frontal, s.background_lateral, config.cameras.width,
+                                       config.cameras.height);
+  if (!images) return Error{"silhouette.background_frontal/_lateral: " + images.error().message};
+  return std::optional<BackgroundImages>(std::move(images).value());
+}
+
 int record(const RecordOptions& opts) {
   Config config;
   if (!opts.config.empty()) {
@@ -100,6 +113,11 @@ int record(const RecordOptions& opts) {
   const auto format = parse_pixel_format(config.cameras.pixel_format);
   if (!format) {
     spdlog::error("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format);
+    return 1;
+  }
+  auto background = station_background(config);
+  if (!background) {
+    spdlog::error("{}", background.error().message);
     return 1;
   }
   const std::string paths[2] = {opts.frontal.empty() ? config.cameras.frontal : opts.frontal,
@@ -173,6 +191,13 @@ int record(const RecordOptions& opts) {
                  recorded->written[v], c.dropped_error, c.dropped_gap, c.restarts);
   }
   spdlog::info("pairing: {}", pairer.stats().summary());
+  if (*background) {
+    if (auto s = write_background_images(opts.out, **background); !s) {
+      spdlog::error("{}", s.error().message);
+      return 1;
+    }
+    spdlog::info("background: the station's copied into {}", opts.out);
+  }
   spdlog::info("recorded to {}", opts.out);
   return 0;
 }

@@ -20,6 +20,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
     std::string recording, out, config, calibration, overlay;
     std::uint64_t every = 1;
+    bool ignore_background = false;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("replay", "Estimate the posture of every frame pair of a recording");
@@ -27,6 +28,8 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--out", opts->out, "NDJSON output file, - for standard output")->required();
   cmd->add_option("--config", opts->config, "station configuration (estimator settings); defaults otherwise");
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml instead of the recording's");
+  cmd->add_flag("--ignore-background", opts->ignore_background,
+                "do not use the recording's background_*.png (learn or bootstrap the background instead)");
   auto* overlay_option = cmd->add_option("--overlay", opts->overlay,
                   "also write DIR/pair_<seq>.png: both views with silhouette outline, CVSM fit and vertebrae");
   cmd->add_option("--every", opts->every, "with --overlay: draw every N-th pair (default 1)")
@@ -38,8 +41,11 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       auto config = load_config(opts->config);
       if (!config) return exit_code.fail(config.error());
       options.estimator = estimator_options(*config);
+      options.background_frontal = config->silhouette.background_frontal;
+      options.background_lateral = config->silhouette.background_lateral;
     }
     options.calibration = opts->calibration;
+    options.ignore_recording_background = opts->ignore_background;
     std::optional<OverlayWriter> overlay;
     if (!opts->overlay.empty()) {
       auto writer = OverlayWriter::create(opts->overlay, opts->every);

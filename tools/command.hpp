@@ -16,6 +16,7 @@ struct ExitCode {
 };
 
 void add_check_command(CLI::App& app, ExitCode& exit_code);
+void add_background_command(CLI::App& app, ExitCode& exit_code);
 void add_replay_command(CLI::App& app, ExitCode& exit_code);
 void add_eval_command(CLI::App& app, ExitCode& exit_code);
 void add_deform_command(CLI::App& app, ExitCode& exit_code);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
 
   cli::ExitCode exit_code;
   cli::add_check_command(app, exit_code);
+  cli::add_background_command(app, exit_code);
   cli::add_replay_command(app, exit_code);
   cli::add_eval_command(app, exit_code);
   cli::add_deform_command(app, exit_code);

@@ -2,6 +2,7 @@
 // the fixed-point cost evaluation against the OpenCV float reference on
 // the same candidates.
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -58,51 +59,84 @@ LumaView view(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<st
 // 0 → 50° → 0; background learnt from the empty frames, the subject model
 // from the first person frames, then the tracked bend played back and forth
 // (ping-pong, so the loop never jumps).
-void BM_PairSilhouettesAndFit(benchmark::State& state) {
-  phantom::PhantomOptions po;
-  po.scenario = "flexion";
+struct PhantomPairs {
+  phantom::PhantomOptions options;
+  std::vector<phantom::PhantomFrame> frames;
+};
+std::optional<PhantomPairs> flexion_pairs(benchmark::State& state) {
+  PhantomPairs p;
+  p.options.scenario = "flexion";
   auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
   if (!subject.ok()) {
     state.SkipWithError(subject.error().message.c_str());
-    return;
+    return std::nullopt;
   }
-  po.subject = *subject;
-  po.frames = 90;
-  auto seq = phantom::PhantomSequence::create(po);
+  p.options.subject = *subject;
+  p.options.frames = 90;
+  auto seq = phantom::PhantomSequence::create(p.options);
   if (!seq.ok()) {
     state.SkipWithError(seq.error().message.c_str());
-    return;
+    return std::nullopt;
   }
-  std::vector<phantom::PhantomFrame> frames;
-  for (int i = 0; i < seq->frame_count(); ++i) frames.push_back(seq->render(i));
-  SilhouetteExtractor ef{SilhouetteOptions{}}, el{SilhouetteOptions{}};
-  CvsmTracker tracker(po.rig, CvsmOptions{});
-  const int first_tracked = po.empty_frames + CvsmOptions{}.subject_frames;
-  for (int i = 0; i < first_tracked; ++i)
-    tracker.track(ef.extract(view(frames[static_cast<std::size_t>(i)].luma[0])),
-                  el.extract(view(frames[static_cast<std::size_t>(i)].luma[1])));
-  const int n = seq->frame_count() - first_tracked;
+  for (int i = 0; i < seq->frame_count(); ++i) p.frames.push_back(seq->render(i));
+  return p;
+}
+
+// With `lifecycle`, what the estimator does around the fit since the
+// background lifecycle: the silhouettes gated by the last fit's outline,
+// the fitted outline rendered and grown, both backgrounds adapted.
+void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle) {
+  auto pairs = flexion_pairs(state);
+  if (!pairs) return;
+  const auto& frames = pairs->frames;
+  SilhouetteExtractor extractors[2] = {SilhouetteExtractor{SilhouetteOptions{}}, SilhouetteExtractor{SilhouetteOptions{}}};
+  CvsmTracker tracker(pairs->options.rig, CvsmOptions{});
+  BitMask fitted[2], gates[2] = {BitMask(kW, kH), BitMask(kW, kH)};
+  bool gated = false;
+  auto one_pair = [&](const phantom::PhantomFrame& f) {
+    SilhouetteResult s[2];
+    for (int v = 0; v < 2; ++v) s[v] = extractors[v].extract(view(f.luma[static_cast<std::size_t>(v)]), gated ? &gates[v] : nullptr);
+    const CvsmResult r = tracker.track(s[0], s[1]);
+    if (lifecycle) {
+      gated = r.state == TrackingState::Tracking;
+      for (int v = 0; v < 2; ++v) {
+        fitted[v] = gated ? tracker.fitted_mask(v) : BitMask{};
+        gated = gated && !fitted[v].empty();
+        if (gated) dilate_square(fitted[v], 16, gates[v]);
+        extractors[v].adapt(view(f.luma[static_cast<std::size_t>(v)]), gated ? &fitted[v] : nullptr);
+      }
+    }
+    return r;
+  };
+  const int first_tracked = pairs->options.empty_frames + CvsmOptions{}.subject_frames;
+  for (int i = 0; i < first_tracked; ++i) one_pair(frames[static_cast<std::size_t>(i)]);
+  const int n = static_cast<int>(frames.size()) - first_tracked;
   int k = 0, lost = 0;
-  std::int64_t candidates = 0, pairs = 0;
+  std::int64_t candidates = 0, count = 0;
   for (auto _ : state) {
     const int phase = k++ % (2 * n - 2);
-    const auto& f = frames[static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase))];
-    const SilhouetteResult sf = ef.extract(view(f.luma[0]));
-    const SilhouetteResult sl = el.extract(view(f.luma[1]));
-    const CvsmResult r = tracker.track(sf, sl);
+    const CvsmResult r = one_pair(frames[static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase))]);
     lost += r.state == TrackingState::Lost;
     candidates += r.fit.candidates.value_or(0);
-    ++pairs;
+    ++count;
     benchmark::DoNotOptimize(r.waist);
   }
   state.counters["lost"] = lost;
-  state.counters["candidates"] = pairs > 0 ? static_cast<double>(candidates) / static_cast<double>(pairs) : 0.0;
+  state.counters["candidates"] = count > 0 ? static_cast<double>(candidates) / static_cast<double>(count) : 0.0;
 }
-BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", [](const std::vector<double>& v) {
+
+double median_of(const std::vector<double>& v) {
   std::vector<double> s = v;
   std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
   return s[s.size() / 2];
-});
+}
+
+void BM_PairSilhouettesAndFit(benchmark::State& state) { pair_silhouettes_and_fit(state, false); }
+void BM_PairWithBackgroundLifecycle(benchmark::State& state) { pair_silhouettes_and_fit(state, true); }
+BENCHMARK(BM_PairWithBackgroundLifecycle)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+
+
+BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {
@@ -122,6 +156,19 @@ void BM_SilhouettesOnly(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(ex.extract(view(f)).pixels);
 }
 BENCHMARK(BM_SilhouettesOnly)->Unit(benchmark::kMicrosecond);
+
+// One view's background adaptation pass (an eighth of the rows), with a
+// person and their margin left out.
+void BM_BackgroundAdapt(benchmark::State& state) {
+  const cv::Mat bg = background();
+  const cv::Mat f = block_person_frame(bg, 5);
+  SilhouetteExtractor ex{SilhouetteOptions{}};
+  (void)ex.set_background(view(bg));
+  (void)ex.extract(view(f));
+  for (auto _ : state) ex.adapt(view(f));
+  benchmark::DoNotOptimize(ex.background().data());
+}
+BENCHMARK(BM_BackgroundAdapt)->Unit(benchmark::kMicrosecond);
 
 // The per-pixel test of a whole 320×240 frame into bits: SSE2 against its
 // scalar reference (arg 0: reference, 1: fast path).

@@ -1,6 +1,7 @@
 #pragma once
 // Runs the real spinewatchd for a test: output to a log file, signals, exit
 // status with a timeout, and its VmRSS.
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>

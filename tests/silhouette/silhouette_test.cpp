@@ -10,41 +10,12 @@
 
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/estimator/silhouette/threshold_row.hpp"
+#include "synthetic_scene.hpp"
 
 namespace spinewatch {
 namespace {
 
-constexpr int kW = 320, kH = 240;
-
-cv::Mat background_image() {
-  cv::Mat bg(kH, kW, CV_8U);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(150 + 40 * x / kW + 20 * ((x / 16 + y / 16) % 2));
-  return bg;
-}
-
-// A person-like shape (head, trunk, legs) darker than the background, with shading.
-cv::Mat person_mask(int dx = 0) {
-  cv::Mat m(kH, kW, CV_8U, cv::Scalar(0));
-  cv::ellipse(m, {160 + dx, 40}, {14, 18}, 0, 0, 360, 255, cv::FILLED);
-  cv::rectangle(m, cv::Rect(135 + dx, 58, 50, 90), 255, cv::FILLED);
-  cv::rectangle(m, cv::Rect(138 + dx, 148, 18, 92), 255, cv::FILLED);
-  cv::rectangle(m, cv::Rect(164 + dx, 148, 18, 92), 255, cv::FILLED);
-  return m;
-}
-
-cv::Mat compose(const cv::Mat& bg, const cv::Mat& person, double gain, double noise, std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, noise);
-  cv::Mat out(kH, kW, CV_8U);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const double base = person.at<std::uint8_t>(y, x) ? 60 + 15 * std::sin(x * 0.2) * std::cos(y * 0.1) : bg.at<std::uint8_t>(y, x);
-      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(gain * base + n(rng));
-    }
-  return out;
-}
-
-LumaView view_of(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; }
+using namespace test::synthetic;
 
 SilhouetteExtractor learned(const cv::Mat& bg, std::mt19937& rng, SilhouetteOptions opt = {}) {
   SilhouetteExtractor ex(opt);
@@ -56,12 +27,6 @@ SilhouetteExtractor learned(const cv::Mat& bg, std::mt19937& rng, SilhouetteOpti
   return ex;
 }
 
-std::int64_t differing(const BitMask& a, const cv::Mat& b) {
-  std::int64_t n = 0;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) n += a.get(x, y) != (b.at<std::uint8_t>(y, x) != 0);
-  return n;
-}
 
 TEST(BitMask, PacksRowsIntoWords) {
   BitMask m(320, 2);

@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/capture/background_images.hpp"
+#include "spinewatch/capture/recording.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
@@ -43,6 +45,44 @@ Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan) {
   }
   spdlog::info("calibration: {} not found; using the default rig (docs/calibration.md)", config.cameras.calibration);
   return CameraRig::default_rig();
+}
+
+// The empty scene (docs/tuning.md, "Background"): a replayed recording's
+// own background_*.png describe its scene; then the station's stored
+// images (silhouette.background_frontal/_lateral); else none, and the
+// estimator learns or bootstraps one (background = "learn") — or, with
+// background = "image", the daemon refuses to start.
+Result<std::optional<BackgroundImages>> load_background(const Config& config, const SourcePlan& plan) {
+  const Config::Silhouette& s = config.silhouette;
+  if (s.background == "threshold") return std::optional<BackgroundImages>{};
+  int width = config.cameras.width, height = config.cameras.height;
+  if (plan.kind == SourcePlan::Kind::Recording) {
+    auto reader = RecordingReader::open(plan.recording);
+    if (!reader) return reader.error();
+    width = static_cast<int>(reader->info().format.width);
+    height = static_cast<int>(reader->info().format.height);
+    if (has_background_images(plan.recording)) {
+      auto images = load_background_images(plan.recording, width, height);
+      if (!images) return images.error();
+      spdlog::info("background: the recording's {} and {}", kBackgroundFiles[0], kBackgroundFiles[1]);
+      return std::optional<BackgroundImages>(std::move(images).value());
+    }
+  }
+  if (!s.background_frontal.empty() || !s.background_lateral.empty()) {
+    if (s.background_frontal.empty() || s.background_lateral.empty())
+      return Error{fmt::format("silhouette.background_{}: empty, while the other view's is set; give both",
+                               s.background_frontal.empty() ? "frontal" : "lateral")};
+    auto images = load_background_images(s.background_frontal, s.background_lateral, width, height);
+    if (!images) return Error{"silhouette.background_frontal/_lateral: " + images.error().message};
+    spdlog::info("background: {} and {}", s.background_frontal, s.background_lateral);
+    return std::optional<BackgroundImages>(std::move(images).value());
+  }
+  if (s.background == "image")
+    return Error{"silhouette.background = \"image\" needs silhouette.background_frontal and background_lateral "
+                 "(capture them with `spinewatch background --out DIR`)"};
+  spdlog::info("background: none stored; learnt from the first frames of an empty scene, or bootstrapped when "
+               "someone is in view (silhouette.bootstrap)");
+  return std::optional<BackgroundImages>{};
 }
 
 Result<PublisherOptions> publisher_options(const Config& config, const DaemonOverrides& overrides) {
@@ -284,7 +324,12 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
 
   d.poll_trigger_controller();  // trigger.controller: set up now, or retried while running
 
+  auto background = load_background(d.config, *plan);
+  if (!background) return background.error();
   auto estimator = std::make_shared<PostureEstimator>(d.rig, estimator_options(d.config));
+  if (*background)
+    if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
+      return s.error();
   d.pipeline = std::make_unique<Pipeline>(
       std::move(source).value(), [estimator](const FramePair& pair) { return estimator->process(pair); },
       [&d](const Posture& posture) { d.on_posture(posture); },

@@ -44,7 +44,10 @@ std::string encode_posture_line(const Posture& posture, const StreamStats& stats
                    {"pairs_dropped", stats.pairs_dropped},
                    {"frames_lost", stats.frames_lost},
                    {"clients", stats.clients},
-                   {"clients_dropped", stats.clients_dropped}};
+                   {"clients_dropped", stats.clients_dropped},
+                   {"background_updates", posture.background.updates},
+                   {"background_relearns", posture.background.relearns},
+                   {"background_bootstraps", posture.background.bootstraps}};
   return line.dump();
 }
 

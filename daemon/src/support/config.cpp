@@ -45,6 +45,14 @@ Key double_key(std::string name, double& (*field)(Config&), Range<double> r) {
           }};
 }
 
+Key bool_key(std::string name, bool& (*field)(Config&)) {
+  return {std::move(name), [field](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_boolean()) return fmt::format("expected true or false, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            field(c) = *n.value<bool>();
+            return std::nullopt;
+          }};
+}
+
 Key string_key(std::string name, std::string& (*field)(Config&), std::vector<std::string> allowed = {}) {
   return {std::move(name), [field, allowed](Config& c, const toml::node& n) -> std::optional<std::string> {
             if (!n.is_string()) return fmt::format("expected a string, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
@@ -94,6 +102,10 @@ const std::vector<Key>& keys() {
       int_key("silhouette.min_blob_px", [](Config& c) -> int& { return c.silhouette.min_blob_px; }, {1, 1000000}),
       string_key("silhouette.background_frontal", [](Config& c) -> std::string& { return c.silhouette.background_frontal; }),
       string_key("silhouette.background_lateral", [](Config& c) -> std::string& { return c.silhouette.background_lateral; }),
+      double_key("silhouette.adapt_s", [](Config& c) -> double& { return c.silhouette.adapt_s; }, {0.0, 3600.0}),
+      int_key("silhouette.adapt_margin_px", [](Config& c) -> int& { return c.silhouette.adapt_margin_px; }, {0, 64}),
+      double_key("silhouette.relearn_empty_s", [](Config& c) -> double& { return c.silhouette.relearn_empty_s; }, {0.0, 86400.0}),
+      bool_key("silhouette.bootstrap", [](Config& c) -> bool& { return c.silhouette.bootstrap; }),
 
       string_key("cvsm.model", [](Config& c) -> std::string& { return c.cvsm.model; }),
       int_key("cvsm.subject_frames", [](Config& c) -> int& { return c.cvsm.subject_frames; }, {0, 1000}),

@@ -8,6 +8,11 @@ EstimatorOptions estimator_options(const Config& c) {
   o.learn_frames = c.silhouette.learn_frames;
   o.threshold = c.silhouette.threshold;
   o.min_blob_px = c.silhouette.min_blob_px;
+  o.adapt_s = c.silhouette.adapt_s;
+  o.adapt_margin_px = c.silhouette.adapt_margin_px;
+  o.relearn_empty_s = c.silhouette.relearn_empty_s;
+  o.bootstrap = c.silhouette.bootstrap;
+  o.fps = c.cameras.fps;
   o.subject_frames = c.cvsm.subject_frames;
   o.lost_cost = c.cvsm.lost_cost;
   o.substeps = c.spine.substeps;

@@ -255,14 +255,24 @@ CvsmResult CvsmTracker::track(const BitMask& frontal, const BitMask& lateral) {
 
 CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteResult& lateral) {
   for (const SilhouetteResult* s : {&frontal, &lateral})
-    if (s->status == SilhouetteStatus::LearningBackground || s->status == SilhouetteStatus::NoPerson) {
+    if (s->status == SilhouetteStatus::LearningBackground || s->status == SilhouetteStatus::NoBackground ||
+        s->status == SilhouetteStatus::NoPerson) {
       CvsmResult r = impl_->no_person(to_string(s->status));
-      if (s->status == SilhouetteStatus::LearningBackground) r.state = TrackingState::Init;
+      // No background yet: not lost, still starting up (interfaces.md §3, init).
+      if (s->status != SilhouetteStatus::NoPerson) r.state = TrackingState::Init;
       return r;
     }
   std::string_view flag = flag_of(frontal.status);
   if (flag.empty()) flag = flag_of(lateral.status);
   return impl_->track(frontal.mask, lateral.mask, flag);
+}
+
+BitMask CvsmTracker::fitted_mask(int view) {
+  Impl& m = *impl_;
+  // After finish(), `points` hold the full model at the reported pose and
+  // the cost counts every row.
+  if (!m.cost || !m.have_model || m.lost || m.init_frames < m.opt.subject_frames) return {};
+  return m.cost->render(m.model, m.points, view);
 }
 
 const BodyModel* CvsmTracker::subject_model() const { return impl_->have_model ? &impl_->model : nullptr; }

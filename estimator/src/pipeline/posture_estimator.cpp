@@ -4,6 +4,7 @@
 #include "spinewatch/estimator/pipeline.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/load/ergonomics.hpp"
 #include "spinewatch/estimator/load/schultz.hpp"
+#include "spinewatch/estimator/silhouette/person_prior.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/spine_model.hpp"
@@ -28,6 +30,14 @@ SilhouetteOptions silhouette_options(const EstimatorOptions& o) {
   s.learn_frames = o.learn_frames;
   s.threshold = o.threshold;
   s.min_blob_px = o.min_blob_px;
+  const double fps = std::max(1.0, o.fps);
+  s.adaptation.adapt_frames = o.adapt_s * fps;
+  s.adaptation.margin_px = o.adapt_margin_px;
+  s.adaptation.relearn_empty_frames = static_cast<int>(std::lround(o.relearn_empty_s * fps));
+  s.bootstrap = o.bootstrap;
+  s.bootstrapping.min_moved_px = o.min_blob_px;
+  // The window spans three seconds of samples at the camera rate.
+  s.bootstrapping.sample_every = std::max(1, static_cast<int>(std::lround(fps / 10)));
   return s;
 }
 
@@ -50,11 +60,21 @@ double step_seconds(std::optional<std::int64_t> previous_ns, std::int64_t now_ns
 }  // namespace
 
 struct PostureEstimator::Impl {
-  Impl(const CameraRig& rig, const EstimatorOptions& o)
-      : options(o),
+  Impl(const CameraRig& r, const EstimatorOptions& o)
+      : rig(r),
+        options(o),
         silhouettes{SilhouetteExtractor(silhouette_options(o)), SilhouetteExtractor(silhouette_options(o))},
-        tracker(rig, cvsm_options(o)) {
+        tracker(r, cvsm_options(o)) {
     load_params.body_mass_kg = o.mass_kg;
+  }
+
+  // The frames' size is known with the first pair: then each view learns
+  // where the subject can be, for bootstrapping a background.
+  void ensure_person_priors(int width, int height) {
+    if (priors_set) return;
+    silhouettes[0].set_person_prior(person_prior(rig.frontal, width, height));
+    silhouettes[1].set_person_prior(person_prior(rig.lateral, width, height));
+    priors_set = true;
   }
 
   // The accurate model is built once the CVSM knows the subject's height.
@@ -73,7 +93,52 @@ struct PostureEstimator::Impl {
     spdlog::info("estimator: subject model built (height {:.0f} mm)", height);
   }
 
+  // Logged once per change: the operator learns why there are no postures
+  // and what to do, and learns when it is over.
+  void report_background(SilhouetteStatus frontal, SilhouetteStatus lateral) {
+    const bool none = frontal == SilhouetteStatus::NoBackground || lateral == SilhouetteStatus::NoBackground;
+    if (none && !reported_no_background)
+      spdlog::warn(
+          "estimator: no background and the scene is not empty (someone in view): bootstrapping it from the "
+          "subject's movement; postures stay \"init\" (flag no_background) until then. For a reliable start, "
+          "capture the empty scene with `spinewatch background` and set silhouette.background_frontal/_lateral");
+    for (int v = 0; v < 2; ++v) {
+      const BackgroundSource source = silhouettes[v].background_model().source();
+      if (source != reported_source[v] && source == BackgroundSource::Bootstrapped)
+        spdlog::info("estimator: {} background bootstrapped with the subject in view", v == 0 ? "frontal" : "lateral");
+      reported_source[v] = source;
+    }
+    reported_no_background = none;
+  }
+
+  // While tracking, the next pair's person is looked for near where the
+  // model is now: its outline grown by kGatePx, more than a fast bend
+  // moves the outline in a frame (40 mm ≈ 6 px at the default rig).
+  static constexpr int kGatePx = 16;
+  void update_gates() {
+    for (int v = 0; v < 2; ++v) {
+      Gate& g = gates[v];
+      g.fitted = last_fit.state == TrackingState::Tracking ? tracker.fitted_mask(v) : BitMask{};
+      g.active = !g.fitted.empty();
+      if (!g.active) continue;
+      if (g.mask.width() != g.fitted.width() || g.mask.height() != g.fitted.height())
+        g.mask = BitMask(g.fitted.width(), g.fitted.height());
+      dilate_square(g.fitted, kGatePx, g.mask);
+    }
+  }
+  const BitMask* gate(int view) const { return gates[view].active ? &gates[view].mask : nullptr; }
+  const BitMask* fitted(int view) const { return gates[view].active ? &gates[view].fitted : nullptr; }
+  struct Gate {
+    bool active = false;
+    BitMask fitted;  // the model's outline of this pair
+    BitMask mask;    // grown: where the next pair's person is looked for
+  } gates[2];
+
+  CameraRig rig;
+  bool priors_set = false;
   EstimatorOptions options;
+  bool reported_no_background = false;
+  BackgroundSource reported_source[2] = {BackgroundSource::None, BackgroundSource::None};
   SilhouetteExtractor silhouettes[2];
   CvsmTracker tracker;
   std::optional<SpineModel> spine_model;
@@ -108,6 +173,8 @@ EstimatorTrace PostureEstimator::last_trace() const {
   trace.silhouette[1] = &m.last_silhouettes[1].mask;
   trace.fit = &m.last_fit;
   trace.body_model = m.tracker.subject_model();
+  trace.background[0] = &m.silhouettes[0].background();
+  trace.background[1] = &m.silhouettes[1].background();
   return trace;
 }
 
@@ -117,13 +184,24 @@ Posture PostureEstimator::process(const FramePair& pair) {
   posture.seq = pair.sequence;
   posture.t_ns = pair.timestamp_ns;
 
+  m.ensure_person_priors(pair.frontal.luma().width, pair.frontal.luma().height);
   // Kept in Impl (moved, not copied) so that last_trace() can show them.
-  m.last_silhouettes[0] = m.silhouettes[0].extract(pair.frontal.luma());
-  m.last_silhouettes[1] = m.silhouettes[1].extract(pair.lateral.luma());
+  m.last_silhouettes[0] = m.silhouettes[0].extract(pair.frontal.luma(), m.gate(0));
+  m.last_silhouettes[1] = m.silhouettes[1].extract(pair.lateral.luma(), m.gate(1));
   const SilhouetteResult& frontal = m.last_silhouettes[0];
   const SilhouetteResult& lateral = m.last_silhouettes[1];
   m.last_fit = m.tracker.track(frontal, lateral);
   m.processed = true;
+  m.update_gates();
+  m.silhouettes[0].adapt(pair.frontal.luma(), m.fitted(0));
+  m.silhouettes[1].adapt(pair.lateral.luma(), m.fitted(1));
+  m.report_background(frontal.status, lateral.status);
+  for (const SilhouetteExtractor& s : m.silhouettes) {
+    const BackgroundCounters& c = s.background_model().counters();
+    posture.background.updates += c.updates;
+    posture.background.relearns += c.relearns;
+    posture.background.bootstraps += c.bootstraps;
+  }
   const CvsmResult& fit = m.last_fit;
   posture.state = fit.state;
   posture.fit = fit.fit;

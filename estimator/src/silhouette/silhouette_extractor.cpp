@@ -4,6 +4,8 @@
 #include <cstring>
 #include <string>
 
+#include <spdlog/spdlog.h>
+
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/estimator/silhouette/threshold_row.hpp"
 
@@ -19,6 +21,7 @@ Result<BackgroundMode> parse_background_mode(std::string_view text) {
 std::string_view to_string(SilhouetteStatus status) {
   switch (status) {
     case SilhouetteStatus::LearningBackground: return "learning_background";
+    case SilhouetteStatus::NoBackground: return "no_background";
     case SilhouetteStatus::NoPerson: return "no_person";
     case SilhouetteStatus::Person: return "person";
     case SilhouetteStatus::TwoBlobs: return "two_blobs";
@@ -31,10 +34,20 @@ std::string_view flag_of(SilhouetteStatus status) {
   return status == SilhouetteStatus::Person ? std::string_view{} : to_string(status);
 }
 
-SilhouetteExtractor::SilhouetteExtractor(SilhouetteOptions options) : options_(options) {}
+SilhouetteExtractor::SilhouetteExtractor(SilhouetteOptions options)
+    : options_(options), model_([&] {
+        BackgroundAdaptation a = options.adaptation;
+        a.learn_frames = options.learn_frames;
+        return a;
+      }()),
+      bootstrap_([&] {
+        BootstrapOptions b = options.bootstrapping;
+        b.threshold = options.threshold;
+        return b;
+      }()) {}
 
 bool SilhouetteExtractor::background_ready() const {
-  return ready_ || options_.background == BackgroundMode::Threshold;
+  return model_.ready() || options_.background == BackgroundMode::Threshold;
 }
 
 Status SilhouetteExtractor::set_background(const LumaView& bg) {
@@ -45,29 +58,52 @@ Status SilhouetteExtractor::set_background(const LumaView& bg) {
                  " does not match the frames' " + std::to_string(width_) + "x" + std::to_string(height_)};
   width_ = bg.width;
   height_ = bg.height;
-  background_.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
-  for (int y = 0; y < height_; ++y)
-    for (int x = 0; x < width_; ++x) background_[static_cast<std::size_t>(y * width_ + x)] = bg.at(x, y);
-  ready_ = true;
+  if (auto s = model_.set(bg, BackgroundSource::Stored); !s) return Error{"silhouette background: " + s.error().message};
+  bootstrapping_ = false;
+  bootstrap_.reset();
   return Ok{};
 }
 
-void SilhouetteExtractor::learn(const LumaView& frame) {
-  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  if (learn_sum_.size() != n) learn_sum_.assign(n, 0);
-  for (int y = 0; y < height_; ++y) {
-    const std::uint8_t* row = frame.row(y);
-    std::uint32_t* sum = learn_sum_.data() + static_cast<std::ptrdiff_t>(y) * width_;
-    for (int x = 0; x < width_; ++x) sum[x] += row[x * frame.step];
+// No background yet. Learn mode averages the first frames; when those
+// frames moved (the subject was in view), the mean would hold the subject,
+// so the station bootstraps instead and says no_background until it can.
+SilhouetteStatus SilhouetteExtractor::start_background(const LumaView& frame) {
+  if (options_.background != BackgroundMode::Learn) return SilhouetteStatus::NoBackground;  // image: not given
+  if (!bootstrapping_) {
+    if (options_.bootstrap) bootstrap_.add(frame);
+    if (!model_.learn(frame)) return SilhouetteStatus::LearningBackground;
+    if (!options_.bootstrap) return SilhouetteStatus::LearningBackground;
+    // The mean stands when the frames were still and it holds nobody at
+    // the subject's place (a person standing still is not movement, but
+    // it is not the smooth scene around them either).
+    const std::int64_t moved = bootstrap_.moved_px();
+    const std::int64_t occupied = bootstrap_.occupied_px(model_.pixels());
+    spdlog::debug("silhouette: learnt background: {} px moved, {} px at the subject's place unlike their surroundings",
+                  moved, occupied);
+    if (moved < options_.bootstrapping.min_moved_px && occupied < options_.min_blob_px) {
+      bootstrap_.reset();
+      return SilhouetteStatus::LearningBackground;
+    }
+    model_.clear();
+    bootstrapping_ = true;
+    return SilhouetteStatus::NoBackground;
   }
-  if (++learned_ < std::max(1, options_.learn_frames)) return;
-  background_.resize(n);
-  const std::uint32_t half = static_cast<std::uint32_t>(learned_ / 2);
-  for (std::size_t i = 0; i < n; ++i)
-    background_[i] = static_cast<std::uint8_t>((learn_sum_[i] + half) / static_cast<std::uint32_t>(learned_));
-  learn_sum_.clear();
-  learn_sum_.shrink_to_fit();
-  ready_ = true;
+  if (bootstrap_.add(frame)) {
+    auto image = bootstrap_.attempt();
+    const BootstrapAttempt& a = bootstrap_.last_attempt();
+    spdlog::debug(
+        "silhouette: bootstrap attempt: {} samples, {} px moved, {} px predicted ({:.0f} % seen uncovered), "
+        "prediction off by {} grey levels on held-out scene{}",
+        a.samples, a.moved_px, a.swept_px, 100 * a.revealed(), a.holdout_p90, image ? ": accepted" : "");
+    if (image) {
+      const LumaView view{image->data(), width_, height_, width_, 1};
+      if (model_.set(view, BackgroundSource::Bootstrapped)) {
+        bootstrapping_ = false;
+        bootstrap_.reset();
+      }
+    }
+  }
+  return SilhouetteStatus::NoBackground;
 }
 
 namespace {
@@ -92,7 +128,7 @@ double SilhouetteExtractor::estimate_gain(const LumaView& frame) const {
   int samples = 0;
   for (int y = 4; y < height_; y += 8) {
     const std::uint8_t* row = frame.row(y);
-    const std::uint8_t* bg = background_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    const std::uint8_t* bg = model_.row(y);
     for (int x = 4; x < width_; x += 8) {
       const int b = bg[x];
       if (b < 16) continue;  // too dark for a ratio
@@ -143,12 +179,12 @@ void SilhouetteExtractor::threshold_to_bits(const LumaView& frame, double gain, 
   row.threshold = options_.threshold;
   for (int y = 0; y < height_; ++y) {
     row.frame = frame.row(y);
-    row.background = background_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    row.background = model_.row(y);
     silhouette_detail::threshold_row(row, out.row(y));
   }
 }
 
-SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame) {
+SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMask* gate) {
   SilhouetteResult result;
   if (width_ == 0) {
     width_ = frame.width;
@@ -160,30 +196,46 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame) {
     return result;
   }
   if (!background_ready()) {
-    if (options_.background == BackgroundMode::Learn) learn(frame);
-    result.status = SilhouetteStatus::LearningBackground;
+    result.status = start_background(frame);
     return result;
   }
-  if (options_.background != BackgroundMode::Threshold) result.gain = estimate_gain(frame);
+  const bool modelled = options_.background != BackgroundMode::Threshold;
+  if (modelled) result.gain = estimate_gain(frame);
   threshold_to_bits(frame, result.gain, result.mask);
   close_cross(result.mask);
+  if (modelled) foreground_ = result.mask;  // before the blob selection: every blob
+  if (gate != nullptr && gate->width() == width_ && gate->height() == height_)
+    for (int y = 0; y < height_; ++y) {
+      std::uint64_t* row = result.mask.row(y);
+      const std::uint64_t* keep = gate->row(y);
+      for (int w = 0; w < result.mask.words_per_row(); ++w) row[w] &= keep[w];
+    }
   const BlobSummary blobs = keep_largest_blob(result.mask, options_.min_blob_px);
   result.blobs = blobs.blobs;
   result.second_blob_px = blobs.second_px;
   if (blobs.largest_px < options_.min_blob_px) {
     result.mask.clear();
     result.status = SilhouetteStatus::NoPerson;
-    return result;
+  } else {
+    result.pixels = blobs.largest_px;
+    if (blobs.second_px >= options_.min_blob_px &&
+        static_cast<double>(blobs.second_px) >= options_.second_blob_fraction * static_cast<double>(blobs.largest_px))
+      result.status = SilhouetteStatus::TwoBlobs;
+    else if (blobs.x_min == 0 || blobs.x_max == width_ - 1)
+      result.status = SilhouetteStatus::Occluded;
+    else
+      result.status = SilhouetteStatus::Person;
   }
-  result.pixels = blobs.largest_px;
-  if (blobs.second_px >= options_.min_blob_px &&
-      static_cast<double>(blobs.second_px) >= options_.second_blob_fraction * static_cast<double>(blobs.largest_px))
-    result.status = SilhouetteStatus::TwoBlobs;
-  else if (blobs.x_min == 0 || blobs.x_max == width_ - 1)
-    result.status = SilhouetteStatus::Occluded;
-  else
-    result.status = SilhouetteStatus::Person;
+  if (modelled) {
+    person_ = result.mask;
+    gain_ = result.gain;
+  }
   return result;
+}
+
+void SilhouetteExtractor::adapt(const LumaView& frame, const BitMask* person) {
+  if (options_.background == BackgroundMode::Threshold || !model_.ready()) return;
+  model_.update(frame, foreground_, person != nullptr ? *person : person_, gain_);
 }
 
 }  // namespace spinewatch

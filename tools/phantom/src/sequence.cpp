@@ -33,6 +33,8 @@ Result<PhantomSequence> PhantomSequence::create(PhantomOptions options) {
     return Error{fmt::format("noise: {} is out of range [0, 50]", options.noise_sigma)};
   if (!(options.flicker >= 0 && options.flicker <= 0.5))
     return Error{fmt::format("flicker: {} is out of range [0, 0.5]", options.flicker)};
+  if (!(options.light_drift >= 0 && options.light_drift <= 0.6))
+    return Error{fmt::format("light drift: {} is out of range [0, 0.6]", options.light_drift)};
   return PhantomSequence(std::move(options), *scenario, frames);
 }
 
@@ -41,6 +43,7 @@ PhantomSequence::PhantomSequence(PhantomOptions options, const Scenario& scenari
       scenario_(&scenario),
       person_frames_(person_frames),
       body_(options_.subject, posture_for(options_, scenario), options_.seed),
+      passer_(Subject{}, SubjectPosture::Standing, options_.seed + 1),
       renderers_{ViewRenderer(options_.rig.frontal, {kImageWidth, kImageHeight}, options_.seed, 0),
                  ViewRenderer(options_.rig.lateral, {kImageWidth, kImageHeight}, options_.seed, 1)},
       sensor_(options_.seed, options_.noise_sigma, options_.flicker) {}
@@ -51,21 +54,58 @@ std::optional<BodyPose> PhantomSequence::pose_at(int index) const {
   return body_.pose(scenario_->motion(i, person_frames_));
 }
 
+// The passer-by walks at 1.2 m/s along the wall side of the subject
+// (0.7 m behind them), across the frontal view and towards the lateral
+// camera, entering a third of the way through the recording.
+std::optional<BodyPose> PhantomSequence::passer_at(int index) const {
+  if (!options_.passer_by) return std::nullopt;
+  constexpr double kBehindMm = 700, kSpeedMmPerFrame = 1200.0 / kPhantomFps, kStartZMm = -1400;
+  const int start = frame_count() / 3;
+  const double z = kStartZMm + (index - start) * kSpeedMmPerFrame;
+  if (index < start || z > -kStartZMm) return std::nullopt;
+  TrunkMotion walk;
+  walk.sway_mm = Eigen::Vector3d(-kBehindMm, 0, z);
+  return passer_.pose(walk);
+}
+
+// Light drift: the scene (person included) lit less and less, by
+// light_drift on average at the end, from 0.5× that at one side of the
+// image to 1.5× at the other.
+cv::Mat PhantomSequence::light(const cv::Mat& clean, int index) const {
+  if (options_.light_drift <= 0) return clean;
+  const double t = frame_count() > 1 ? double(index) / double(frame_count() - 1) : 0.0;
+  cv::Mat out(clean.size(), CV_8U);
+  for (int y = 0; y < clean.rows; ++y)
+    for (int x = 0; x < clean.cols; ++x) {
+      const double side = 0.5 + double(x) / double(std::max(1, clean.cols - 1));
+      const double gain = 1.0 - options_.light_drift * t * side;
+      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(gain * clean.at<std::uint8_t>(y, x));
+    }
+  return out;
+}
+
 PhantomFrame PhantomSequence::render(int index) const {
   PhantomFrame frame;
   frame.seq = std::uint64_t(index);
   frame.t_ns = frame_time_ns(frame.seq);
   const std::optional<BodyPose> body = pose_at(index);
+  const std::optional<BodyPose> passer = passer_at(index);
   for (int view = 0; view < 2; ++view) {
     const ViewRenderer& renderer = renderers_[std::size_t(view)];
-    if (body) {
-      frame.person[std::size_t(view)] = renderer.person_layer(*body);
-      frame.clean[std::size_t(view)] = renderer.compose(frame.person[std::size_t(view)], options_.shadow);
-    } else {
-      frame.person[std::size_t(view)] = cv::Mat::zeros(renderer.background().size(), CV_8U);
-      frame.clean[std::size_t(view)] = renderer.background().clone();
+    const auto v = std::size_t(view);
+    frame.person[v] = body ? renderer.person_layer(*body) : cv::Mat::zeros(renderer.background().size(), CV_8U);
+    cv::Mat scene_layer = frame.person[v];
+    if (passer) {
+      // Both people in one painter's pass; the person layer (the truth of
+      // what the subject covers) stays the subject's alone.
+      BodyPose both = *passer;
+      if (body) both.solids.insert(both.solids.end(), body->solids.begin(), body->solids.end());
+      scene_layer = renderer.person_layer(both);
     }
-    frame.luma[std::size_t(view)] = sensor_.expose(frame.clean[std::size_t(view)], frame.seq, view);
+    const bool anyone = body || passer;
+    frame.clean[v] = anyone ? renderer.compose(scene_layer, options_.shadow) : renderer.background().clone();
+    frame.clean[v] = light(frame.clean[v], index);
+    frame.luma[v] = sensor_.expose(frame.clean[v], frame.seq, view);
   }
   frame.truth = ground_truth(index);
   return frame;
@@ -103,9 +143,10 @@ nlohmann::json PhantomSequence::subject_json() const {
 }
 
 std::string PhantomSequence::notes() const {
-  return fmt::format("phantom scenario={} seed={} frames={} empty_frames={} noise={} flicker={} shadow={}", scenario_->name,
-                     options_.seed, person_frames_, options_.empty_frames, options_.noise_sigma, options_.flicker,
-                     options_.shadow);
+  return fmt::format(
+      "phantom scenario={} seed={} frames={} empty_frames={} noise={} flicker={} shadow={} light_drift={} passer_by={}",
+      scenario_->name, options_.seed, person_frames_, options_.empty_frames, options_.noise_sigma, options_.flicker,
+      options_.shadow, options_.light_drift, options_.passer_by);
 }
 
 }  // namespace spinewatch::phantom

@@ -4,9 +4,9 @@
 #include <chrono>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recording_source.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/sync/frame_pairer.hpp"
@@ -24,20 +24,27 @@ Result<CameraRig> recording_rig(const std::filesystem::path& dir, const ReplayOp
   return CameraRig::default_rig();
 }
 
-// The stored backgrounds for background = "image", as 8-bit grey images.
-Status load_backgrounds(const std::filesystem::path& dir, const ReplayOptions& options, PostureEstimator& estimator) {
-  cv::Mat images[2];
-  const std::filesystem::path paths[2] = {
-      options.background_frontal.empty() ? dir / "background_frontal.png" : options.background_frontal,
-      options.background_lateral.empty() ? dir / "background_lateral.png" : options.background_lateral};
-  for (int v = 0; v < 2; ++v) {
-    images[v] = cv::imread(paths[v].string(), cv::IMREAD_GRAYSCALE);
-    if (images[v].empty()) return Error{fmt::format("{}: cannot be read as an image", paths[v].string())};
+// The stored background, in the order ReplayOptions documents; nothing
+// when there is none (an error only when background = "image" needs one).
+Result<std::optional<BackgroundImages>> stored_background(const std::filesystem::path& dir, const ReplayOptions& options,
+                                                          const RecordingInfo& info) {
+  const int w = static_cast<int>(info.format.width), h = static_cast<int>(info.format.height);
+  if (!options.ignore_recording_background && has_background_images(dir)) {
+    auto images = load_background_images(dir, w, h);
+    if (!images) return images.error();
+    spdlog::info("{}: background from the recording's {} and {}", dir.string(), kBackgroundFiles[0], kBackgroundFiles[1]);
+    return std::optional<BackgroundImages>(std::move(images).value());
   }
-  auto view = [](const cv::Mat& m) {
-    return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step[0]), 1};
-  };
-  return estimator.set_backgrounds(view(images[0]), view(images[1]));
+  if (!options.background_frontal.empty() || !options.background_lateral.empty()) {
+    auto images = load_background_images(options.background_frontal, options.background_lateral, w, h);
+    if (!images) return images.error();
+    return std::optional<BackgroundImages>(std::move(images).value());
+  }
+  if (options.estimator.background == "image")
+    return Error{fmt::format("{}: background = \"image\" but there is no background_frontal.png / background_lateral.png "
+                             "and none is configured (spinewatch background --out DIR)",
+                             dir.string())};
+  return std::optional<BackgroundImages>{};
 }
 
 }  // namespace
@@ -55,9 +62,16 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
   state.pairs_expected = std::min(info.frames[0].size(), info.frames[1].size());
 
   sync::FramePairer pairer(sync::PairerOptions{.fps = info.fps});
-  PostureEstimator estimator(*rig, options.estimator);
-  if (options.estimator.background == "image")
-    if (auto s = load_backgrounds(dir, options, estimator); !s) return s.error();
+  EstimatorOptions estimator_options = options.estimator;
+  estimator_options.fps = info.fps;
+  PostureEstimator estimator(*rig, estimator_options);
+  if (options.estimator.background != "threshold") {
+    auto background = stored_background(dir, options, info);
+    if (!background) return background.error();
+    if (*background)
+      if (auto s = estimator.set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
+        return s.error();
+  }
 
   auto drain = [&]() -> Status {
     while (auto pair = pairer.pop()) {

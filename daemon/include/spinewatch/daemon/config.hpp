@@ -50,8 +50,12 @@ struct Config {
     int learn_frames = 10;
     int threshold = 28;        // grey levels above the background difference
     int min_blob_px = 600;
-    std::string background_frontal = "";
+    std::string background_frontal = "";  // the station's empty scene (spinewatch background); "" = none
     std::string background_lateral = "";
+    double adapt_s = 2.0;          // time constant of the background's adaptation outside the person; 0 = off
+    int adapt_margin_px = 8;       // pixels around the person the adaptation leaves alone
+    double relearn_empty_s = 10;   // an empty scene this long re-learns the whole background; 0 = never
+    bool bootstrap = true;         // no background and someone in view: bootstrap one from their movement
     bool operator==(const Silhouette&) const = default;
   } silhouette;
 

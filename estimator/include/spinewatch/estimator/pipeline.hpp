@@ -3,7 +3,9 @@
 // directions) → accurate spine model, warm-started from the previous pair →
 // loads and ergonomic flags → one Posture. One instance per stream of pairs;
 // not thread-safe (the daemon runs it on its estimator thread).
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
@@ -22,6 +24,9 @@ struct EstimatorTrace {
   const BitMask* silhouette[2] = {nullptr, nullptr};  // person blob, frontal and lateral
   const CvsmResult* fit = nullptr;
   const BodyModel* body_model = nullptr;  // the subject's CVSM; null until built
+  // Each view's background as it stands after this pair (width × height
+  // bytes; empty while there is none).
+  const std::vector<std::uint8_t>* background[2] = {nullptr, nullptr};
 };
 
 struct EstimatorOptions {
@@ -30,6 +35,11 @@ struct EstimatorOptions {
   int learn_frames = 10;
   int threshold = 28;
   int min_blob_px = 600;
+  double adapt_s = 2.0;         // time constant of the adaptation outside the person; 0 = off
+  int adapt_margin_px = 8;      // left alone around the person
+  double relearn_empty_s = 10;  // empty scene this long → re-learn; 0 = never
+  bool bootstrap = true;        // no background and the subject in view: build one from movement
+  double fps = 30;              // the frame rate the times above are counted in
   // CVSM (config [cvsm]).
   int subject_frames = 10;
   double lost_cost = 0.35;

@@ -54,6 +54,11 @@ struct Ergonomics {
   std::vector<ErgonomicFlag> flags;
 };
 
+// Both views' background counters together (silhouette/background_model.hpp).
+struct BackgroundCounts {
+  std::uint64_t updates = 0, relearns = 0, bootstraps = 0;
+};
+
 struct Posture {
   std::uint64_t seq = 0;
   std::int64_t t_ns = 0;
@@ -67,6 +72,7 @@ struct Posture {
   std::vector<LevelAngles> angles;
   std::vector<LevelLoad> loads;
   std::optional<Ergonomics> ergonomics;
+  BackgroundCounts background;  // the daemon publishes these in "stats"
 };
 
 }  // namespace spinewatch

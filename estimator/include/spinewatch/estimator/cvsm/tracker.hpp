@@ -61,6 +61,9 @@ class CvsmTracker {
   // two blobs / occluded → the fit runs on the largest blob and is flagged.
   CvsmResult track(const SilhouetteResult& frontal, const SilhouetteResult& lateral);
 
+  // The fitted model's outline in one view (0 frontal, 1 lateral) after
+  // the last track(); empty when that frame was not tracking.
+  BitMask fitted_mask(int view);
   // The subject model once built (during init: the current estimate).
   const BodyModel* subject_model() const;
   // Starts over: a new subject.

@@ -1,11 +1,15 @@
 #pragma once
 // The person's silhouette in one view: background subtraction with exposure
 // compensation, cleaned to the person's blob, packed into a BitMask.
-// One extractor per view; it keeps that view's background model.
+// One extractor per view; it keeps that view's background model
+// (background_model.hpp) and, with no background yet, bootstraps one
+// (background_bootstrap.hpp).
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
+#include "spinewatch/estimator/silhouette/background_bootstrap.hpp"
+#include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/frames/frame.hpp"
 #include "spinewatch/frames/result.hpp"
@@ -14,8 +18,9 @@ namespace spinewatch {
 
 // Mirrors the [silhouette] keys of the station configuration.
 enum class BackgroundMode : std::uint8_t {
-  Learn,      // mean of the first learn_frames frames (an empty scene)
-  Image,      // a stored background image given to set_background()
+  Learn,      // a stored image when given, else the mean of the first
+              // learn_frames frames of an empty scene, else bootstrapped
+  Image,      // a stored background image given to set_background() only
   Threshold,  // the paper's plain threshold against a uniform backdrop
 };
 Result<BackgroundMode> parse_background_mode(std::string_view text);
@@ -26,10 +31,14 @@ struct SilhouetteOptions {
   int threshold = 28;      // grey levels of |frame − gain·background| that make a pixel foreground
   int min_blob_px = 600;   // smaller blobs are noise
   double second_blob_fraction = 0.25;  // a second blob this large (of the first) → two_blobs
+  BackgroundAdaptation adaptation;     // keeping the background up to date
+  bool bootstrap = true;               // no background and the subject in view: build one
+  BootstrapOptions bootstrapping;
 };
 
 enum class SilhouetteStatus : std::uint8_t {
-  LearningBackground,  // no background yet; the mask is empty
+  LearningBackground,  // no background yet, learning an empty scene; the mask is empty
+  NoBackground,        // no background and the scene is not empty: bootstrapping; the mask is empty
   NoPerson,            // no blob of min_blob_px
   Person,              // one person blob, inside the image
   TwoBlobs,            // a second large blob (another person, an object)
@@ -52,24 +61,42 @@ class SilhouetteExtractor {
  public:
   explicit SilhouetteExtractor(SilhouetteOptions options = {});
 
-  // Replaces the background (BackgroundMode::Image, or to skip learning).
+  // Replaces the background with a stored image (BackgroundMode::Image,
+  // or Learn with a stored background: no learning needed).
   Status set_background(const LumaView& background);
   bool background_ready() const;
-  const std::vector<std::uint8_t>& background() const { return background_; }
+  const std::vector<std::uint8_t>& background() const { return model_.pixels(); }
+  const BackgroundModel& background_model() const { return model_; }
+  // Where the subject can be in this view, for bootstrapping (see
+  // BackgroundBootstrap::set_prior).
+  void set_person_prior(const BitMask& region) { bootstrap_.set_prior(region); }
+  // The last bootstrap attempt (while status is NoBackground).
+  const BootstrapAttempt& bootstrap_attempt() const { return bootstrap_.last_attempt(); }
 
-  SilhouetteResult extract(const LumaView& frame);
+  // The silhouette of this frame. With a `gate` (the tracked model's
+  // outline, grown), only foreground inside it can be the person: a
+  // passer-by behind the subject, a moved chair, a shadow further away do
+  // not join the subject's blob.
+  SilhouetteResult extract(const LumaView& frame, const BitMask* gate = nullptr);
+  // Then the background adapts to the same frame, outside `person`: the
+  // fitted model's outline when the fit is tracking (the blob would hold
+  // stale background the subject just uncovered, and keep it stale), the
+  // last blob otherwise (nullptr).
+  void adapt(const LumaView& frame, const BitMask* person = nullptr);
 
  private:
-  void learn(const LumaView& frame);
+  SilhouetteStatus start_background(const LumaView& frame);
   double estimate_gain(const LumaView& frame) const;
   void threshold_to_bits(const LumaView& frame, double gain, BitMask& out) const;
 
   SilhouetteOptions options_;
   int width_ = 0, height_ = 0;
-  std::vector<std::uint8_t> background_;
-  std::vector<std::uint32_t> learn_sum_;
-  int learned_ = 0;
-  bool ready_ = false;
+  BackgroundModel model_;
+  BackgroundBootstrap bootstrap_;
+  bool bootstrapping_ = false;  // the learning frames moved: bootstrap instead
+  BitMask foreground_;          // every blob of the last frame, for the adaptation
+  BitMask person_;              // the last frame's person blob (empty: none)
+  double gain_ = 1.0;           // the last frame's exposure gain
 };
 
 // Cleaning steps, exposed for tests.

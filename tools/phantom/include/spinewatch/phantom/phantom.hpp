@@ -31,6 +31,12 @@ struct PhantomOptions {
   double flicker = 0.03;           // ± relative gain per frame
   bool shadow = false;
   int empty_frames = 10;           // empty scene first, for background learning
+  // Scene conditions (docs/phantom.md, "Conditions"):
+  // the light falls by this fraction over the recording, twice as much on
+  // one side of each view as on the other (a window clouding over);
+  double light_drift = 0;
+  // a second person walks behind the subject, across the frontal view.
+  bool passer_by = false;
   CameraRig rig = CameraRig::default_rig();
 };
 
@@ -69,11 +75,14 @@ class PhantomSequence {
  private:
   PhantomSequence(PhantomOptions options, const Scenario& scenario, int person_frames);
   std::optional<BodyPose> pose_at(int index) const;  // nothing for an empty frame
+  std::optional<BodyPose> passer_at(int index) const;  // nothing when out of the scene
+  cv::Mat light(const cv::Mat& clean, int index) const;
 
   PhantomOptions options_;
   const Scenario* scenario_;
   int person_frames_;
   BodyModel body_;
+  BodyModel passer_;  // drawn only with options().passer_by
   std::array<ViewRenderer, 2> renderers_;
   SensorModel sensor_;
 };

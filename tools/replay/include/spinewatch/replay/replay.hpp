@@ -26,9 +26,12 @@ struct ReplayOptions {
   EstimatorOptions estimator;
   // calibration.yaml to use instead of DIR/calibration.yaml.
   std::filesystem::path calibration;
-  // Empty-scene images for estimator.background = "image"; empty paths mean
-  // DIR/background_frontal.png and DIR/background_lateral.png.
+  // The empty scene (docs/tuning.md, "Background"): the recording's own
+  // DIR/background_{frontal,lateral}.png when present, else these (the
+  // station's, from its configuration), else none: learnt or bootstrapped
+  // (background = "learn"), or an error (background = "image").
   std::filesystem::path background_frontal, background_lateral;
+  bool ignore_recording_background = false;  // the recording's own images are not used
   // Called after every pair, after its latency is measured; an error stops the replay.
   PairObserver observer;
 };

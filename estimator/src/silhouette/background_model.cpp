@@ -1,0 +1,212 @@
+#include "spinewatch/estimator/silhouette/background_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace spinewatch {
+namespace {
+
+// Each frame adapts every kRowPhases-th row, starting one row further down
+// than the frame before: every row once in kRowPhases frames, at the rate
+// that gives the configured time constant. Light changes over seconds, so
+// the quarter-second lag costs nothing, and a frame pays an eighth.
+constexpr int kRowPhases = 8;
+
+// The per-update rate in Q12 for a per-frame time constant of `frames`,
+// applied once every kRowPhases frames: 1 − (1 − 1/frames)^kRowPhases.
+int rate_q12(double frames) {
+  if (frames <= 0) return 0;
+  const double per_frame = 1.0 / std::max(frames, 1.0);
+  const double per_update = 1.0 - std::pow(1.0 - per_frame, kRowPhases);
+  return std::clamp(static_cast<int>(std::lround(per_update * 4096.0)), 1, 4096);
+}
+
+}  // namespace
+
+std::string_view to_string(BackgroundSource source) {
+  switch (source) {
+    case BackgroundSource::None: return "none";
+    case BackgroundSource::Stored: return "stored";
+    case BackgroundSource::Learnt: return "learnt";
+    case BackgroundSource::Bootstrapped: return "bootstrapped";
+  }
+  return "unknown";
+}
+
+BackgroundModel::BackgroundModel(BackgroundAdaptation options) : options_(options) {}
+
+Status BackgroundModel::set(const LumaView& image, BackgroundSource source) {
+  if (image.data == nullptr || image.width <= 0 || image.height <= 0) return Error{"empty image"};
+  if (width_ != 0 && (image.width != width_ || image.height != height_))
+    return Error{std::to_string(image.width) + "x" + std::to_string(image.height) + " does not match the frames' " +
+                 std::to_string(width_) + "x" + std::to_string(height_)};
+  width_ = image.width;
+  height_ = image.height;
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  pixels_.resize(n);
+  average_.resize(n);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y * width_ + x);
+      pixels_[i] = image.at(x, y);
+      average_[i] = static_cast<std::uint16_t>(pixels_[i] << 8);
+    }
+  source_ = source;
+  if (source == BackgroundSource::Bootstrapped) ++counters_.bootstraps;
+  abandon_learning();
+  return Ok{};
+}
+
+bool BackgroundModel::learn(const LumaView& frame) {
+  if (width_ == 0) {
+    width_ = frame.width;
+    height_ = frame.height;
+  }
+  if (frame.width != width_ || frame.height != height_) return false;
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  if (learn_sum_.size() != n) learn_sum_.assign(n, 0);
+  for (int y = 0; y < height_; ++y) {
+    const std::uint8_t* row = frame.row(y);
+    std::uint32_t* sum = learn_sum_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    for (int x = 0; x < width_; ++x) sum[x] += row[x * frame.step];
+  }
+  if (++learned_ < std::max(1, options_.learn_frames)) return false;
+  pixels_.resize(n);
+  average_.resize(n);
+  const std::uint32_t count = static_cast<std::uint32_t>(learned_);
+  for (std::size_t i = 0; i < n; ++i) {
+    // The Q8 mean keeps the fraction the byte rounds away.
+    const std::uint32_t q8 = (learn_sum_[i] * 256 + count / 2) / count;
+    average_[i] = static_cast<std::uint16_t>(std::min<std::uint32_t>(q8, 0xFFFF));
+    pixels_[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>((q8 + 128) >> 8, 255));
+  }
+  if (source_ != BackgroundSource::None) ++counters_.relearns;
+  source_ = BackgroundSource::Learnt;
+  abandon_learning();
+  return true;
+}
+
+void BackgroundModel::abandon_learning() {
+  learn_sum_.clear();
+  learn_sum_.shrink_to_fit();
+  learned_ = 0;
+}
+
+void BackgroundModel::clear() {
+  source_ = BackgroundSource::None;
+  pixels_.clear();
+  average_.clear();
+  abandon_learning();
+  empty_frames_ = 0;
+}
+
+void BackgroundModel::update(const LumaView& frame, const BitMask& foreground, const BitMask& person, double gain) {
+  if (!ready() || frame.width != width_ || frame.height != height_) return;
+  const bool empty = person.empty() || person.count() == 0;
+  empty_frames_ = empty ? empty_frames_ + 1 : 0;
+  if (!empty && learned_ > 0) abandon_learning();  // someone came in: that mean is not an empty scene
+  if (options_.relearn_empty_frames > 0 && empty_frames_ >= options_.relearn_empty_frames) {
+    if (learn(frame)) empty_frames_ = 0;
+    return;  // while re-learning, the running average waits
+  }
+  if (options_.adapt_frames <= 0) return;
+  adapt_rows(frame, foreground, person, gain);
+  ++counters_.updates;
+}
+
+void BackgroundModel::adapt_rows(const LumaView& frame, const BitMask& foreground, const BitMask& person,
+                                 double gain) {
+  const int gain_q12 = std::clamp(static_cast<int>(std::lround(gain * 4096.0)), 2048, 8192);
+  const int fast = rate_q12(options_.adapt_frames);
+  const int slow = rate_q12(options_.adapt_frames * std::max(1.0, options_.foreground_slowdown));
+  const bool has_person = !person.empty() && person.width() == width_ && person.height() == height_;
+  const bool has_foreground = !foreground.empty() && foreground.width() == width_ && foreground.height() == height_;
+  if (has_person) {
+    if (protect_.width() != width_ || protect_.height() != height_) protect_ = BitMask(width_, height_);
+    dilate_square(person, options_.margin_px, protect_);
+  }
+  const int phase = static_cast<int>(frame_counter_++ % kRowPhases);
+  for (int y = phase; y < height_; y += kRowPhases) {
+    const std::uint8_t* in = frame.row(y);
+    std::uint16_t* average = average_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    std::uint8_t* out = pixels_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    const std::uint64_t* near = has_person ? protect_.row(y) : nullptr;
+    const std::uint64_t* fg = has_foreground ? foreground.row(y) : nullptr;
+    for (int x = 0; x < width_; ++x) {
+      const std::uint64_t bit = std::uint64_t{1} << (x & 63);
+      const int a = average[x];
+      int target = 0, rate = fast;
+      if (near != nullptr && (near[x >> 6] & bit) != 0) {
+        // Under the person and the margin around them the scene is not
+        // seen, but the light on it changes as on the rest of the scene:
+        // these pixels follow the scene's overall change (the exposure
+        // gain), so that what the subject uncovers after an hour under a
+        // window is not stale.
+        target = (a * gain_q12 + 2048) >> 12;
+      } else {
+        // Foreground that is not the person adapts slowly: a passer-by is
+        // not learnt, an object left there is, in a minute or two.
+        if (fg != nullptr && (fg[x >> 6] & bit) != 0) rate = slow;
+        target = in[x * frame.step] << 8;
+      }
+      // Rounded, not floored: a floor would pull a steady pixel down by
+      // up to half a grey level at the slow rate.
+      const int next = std::clamp(a + ((target - a) * rate + 2048) / 4096, 0, 0xFFFF);
+      average[x] = static_cast<std::uint16_t>(next);
+      out[x] = static_cast<std::uint8_t>(std::min(255, (next + 128) >> 8));
+    }
+  }
+}
+
+void dilate_square(const BitMask& in, int radius, BitMask& out) {
+  const int words = in.words_per_row();
+  const int height = in.height();
+  const std::uint64_t keep = (in.width() & 63) != 0 ? (std::uint64_t{1} << (in.width() & 63)) - 1 : ~std::uint64_t{0};
+  radius = std::max(radius, 0);
+  // Horizontally by shifts of 1, 1, 2, 4, … (each step doubles the reach,
+  // the last one tops it up to the radius), then vertically as the OR over
+  // the window of rows.
+  std::vector<std::uint64_t> grown(static_cast<std::size_t>(words) * static_cast<std::size_t>(height));
+  std::vector<std::uint64_t> before(static_cast<std::size_t>(words));
+  for (int y = 0; y < height; ++y) {
+    std::uint64_t* row = grown.data() + static_cast<std::ptrdiff_t>(y) * words;
+    std::copy(in.row(y), in.row(y) + words, row);
+    for (int reach = 0; reach < radius;) {
+      const int s = std::min({std::max(reach, 1), radius - reach, 63});
+      std::copy(row, row + words, before.begin());
+      for (int w = 0; w < words; ++w) {
+        const std::uint64_t mid = before[static_cast<std::size_t>(w)];
+        const std::uint64_t prev = w > 0 ? before[static_cast<std::size_t>(w - 1)] : 0;
+        const std::uint64_t next = w + 1 < words ? before[static_cast<std::size_t>(w + 1)] : 0;
+        row[w] = mid | (mid << s) | (prev >> (64 - s)) | (mid >> s) | (next << (64 - s));
+      }
+      row[words - 1] &= keep;
+      reach += s;
+    }
+  }
+  // Vertically the same way: OR with the rows s above and below, s
+  // doubling, so a radius costs log2(radius) passes, not 2·radius + 1.
+  std::vector<std::uint64_t> previous(grown.size());
+  for (int reach = 0; reach < radius;) {
+    const int s = std::min(std::max(reach, 1), radius - reach);
+    previous = grown;
+    for (int y = 0; y < height; ++y) {
+      std::uint64_t* dst = grown.data() + static_cast<std::ptrdiff_t>(y) * words;
+      if (y - s >= 0) {
+        const std::uint64_t* up = previous.data() + static_cast<std::ptrdiff_t>(y - s) * words;
+        for (int w = 0; w < words; ++w) dst[w] |= up[w];
+      }
+      if (y + s < height) {
+        const std::uint64_t* down = previous.data() + static_cast<std::ptrdiff_t>(y + s) * words;
+        for (int w = 0; w < words; ++w) dst[w] |= down[w];
+      }
+    }
+    reach += s;
+  }
+  for (int y = 0; y < height; ++y)
+    std::copy(grown.data() + static_cast<std::ptrdiff_t>(y) * words, grown.data() + static_cast<std::ptrdiff_t>(y + 1) * words,
+              out.row(y));
+}
+
+}  // namespace spinewatch
