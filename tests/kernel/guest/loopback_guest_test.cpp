@@ -146,6 +146,10 @@ TEST(Loopback, PhantomBytesRoundTripAndEstimatorAgrees) {
   camera.stop();
   ASSERT_TRUE(writer->finish(nullptr, "kernel loopback of " + phantom.string()).ok());
   fs::copy_file(phantom / "calibration.yaml", captured_dir / "calibration.yaml");
+  // The scene's background goes with the frames, as `record` copies the
+  // station's: both replays then start from the same empty scene.
+  for (const char* png : {"background_frontal.png", "background_lateral.png"})
+    if (fs::exists(phantom / png)) fs::copy_file(phantom / png, captured_dir / png);
   std::printf("loopback: %llu captured frames compared for %zu + %zu frames shown\n",
               static_cast<unsigned long long>(frames_compared), reader->frame_count(View::Frontal),
               reader->frame_count(View::Lateral));
