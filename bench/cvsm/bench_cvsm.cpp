@@ -157,7 +157,7 @@ void BM_SilhouettesOnly(benchmark::State& state) {
 }
 BENCHMARK(BM_SilhouettesOnly)->Unit(benchmark::kMicrosecond);
 
-// One view's background adaptation pass (an eighth of the rows), with a
+// One view's background adaptation pass (a sixteenth of the rows), with a
 // person and their margin left out.
 void BM_BackgroundAdapt(benchmark::State& state) {
   const cv::Mat bg = background();

@@ -10,8 +10,8 @@ namespace {
 // Each frame adapts every kRowPhases-th row, starting one row further down
 // than the frame before: every row once in kRowPhases frames, at the rate
 // that gives the configured time constant. Light changes over seconds, so
-// the quarter-second lag costs nothing, and a frame pays an eighth.
-constexpr int kRowPhases = 8;
+// the half-second lag costs nothing, and a frame pays a sixteenth.
+constexpr int kRowPhases = 16;
 
 // The per-update rate in Q12 for a per-frame time constant of `frames`,
 // applied once every kRowPhases frames: 1 − (1 − 1/frames)^kRowPhases.
@@ -20,6 +20,32 @@ int rate_q12(double frames) {
   const double per_frame = 1.0 / std::max(frames, 1.0);
   const double per_update = 1.0 - std::pow(1.0 - per_frame, kRowPhases);
   return std::clamp(static_cast<int>(std::lround(per_update * 4096.0)), 1, 4096);
+}
+
+// Row y of the person grown by `radius` (the square dilation, for one
+// row): the OR of the rows within the radius, then spread sideways. The
+// adaptation needs a sixteenth of the rows; growing the whole mask would
+// cost more than adapting them.
+void near_of(const BitMask& person, int y, int radius, std::uint64_t* out, std::uint64_t* before) {
+  const int words = person.words_per_row();
+  std::fill(out, out + words, 0);
+  for (int yy = std::max(0, y - radius); yy <= std::min(person.height() - 1, y + radius); ++yy) {
+    const std::uint64_t* row = person.row(yy);
+    for (int w = 0; w < words; ++w) out[w] |= row[w];
+  }
+  const std::uint64_t keep = (person.width() & 63) != 0 ? (std::uint64_t{1} << (person.width() & 63)) - 1 : ~std::uint64_t{0};
+  for (int reach = 0; reach < radius;) {
+    const int s = std::min({std::max(reach, 1), radius - reach, 63});
+    std::copy(out, out + words, before);
+    for (int w = 0; w < words; ++w) {
+      const std::uint64_t mid = before[w];
+      const std::uint64_t prev = w > 0 ? before[w - 1] : 0;
+      const std::uint64_t next = w + 1 < words ? before[w + 1] : 0;
+      out[w] = mid | (mid << s) | (prev >> (64 - s)) | (mid >> s) | (next << (64 - s));
+    }
+    out[words - 1] &= keep;
+    reach += s;
+  }
 }
 
 }  // namespace
@@ -122,39 +148,57 @@ void BackgroundModel::adapt_rows(const LumaView& frame, const BitMask& foregroun
   const int slow = rate_q12(options_.adapt_frames * std::max(1.0, options_.foreground_slowdown));
   const bool has_person = !person.empty() && person.width() == width_ && person.height() == height_;
   const bool has_foreground = !foreground.empty() && foreground.width() == width_ && foreground.height() == height_;
-  if (has_person) {
-    if (protect_.width() != width_ || protect_.height() != height_) protect_ = BitMask(width_, height_);
-    dilate_square(person, options_.margin_px, protect_);
-  }
+  const int words = (width_ + 63) / 64;
+  near_row_.resize(2 * static_cast<std::size_t>(words));
   const int phase = static_cast<int>(frame_counter_++ % kRowPhases);
   for (int y = phase; y < height_; y += kRowPhases) {
     const std::uint8_t* in = frame.row(y);
     std::uint16_t* average = average_.data() + static_cast<std::ptrdiff_t>(y) * width_;
     std::uint8_t* out = pixels_.data() + static_cast<std::ptrdiff_t>(y) * width_;
-    const std::uint64_t* near = has_person ? protect_.row(y) : nullptr;
+    const std::uint64_t* near = nullptr;
+    if (has_person) {
+      near_of(person, y, options_.margin_px, near_row_.data(), near_row_.data() + words);
+      near = near_row_.data();
+    }
     const std::uint64_t* fg = has_foreground ? foreground.row(y) : nullptr;
-    for (int x = 0; x < width_; ++x) {
-      const std::uint64_t bit = std::uint64_t{1} << (x & 63);
-      const int a = average[x];
-      int target = 0, rate = fast;
-      if (near != nullptr && (near[x >> 6] & bit) != 0) {
-        // Under the person and the margin around them the scene is not
-        // seen, but the light on it changes as on the rest of the scene:
-        // these pixels follow the scene's overall change (the exposure
-        // gain), so that what the subject uncovers after an hour under a
-        // window is not stale.
-        target = (a * gain_q12 + 2048) >> 12;
-      } else {
-        // Foreground that is not the person adapts slowly: a passer-by is
-        // not learnt, an object left there is, in a minute or two.
-        if (fg != nullptr && (fg[x >> 6] & bit) != 0) rate = slow;
-        target = in[x * frame.step] << 8;
+    for (int x0 = 0; x0 < width_; x0 += 64) {
+      const int x1 = std::min(width_, x0 + 64);
+      const std::uint64_t near_bits = near != nullptr ? near[x0 >> 6] : 0;
+      const std::uint64_t fg_bits = fg != nullptr ? fg[x0 >> 6] : 0;
+      if ((near_bits | fg_bits) == 0) {
+        // Most of a frame is plain scene: one rate, no masks, a loop the
+        // compiler vectorises.
+        for (int x = x0; x < x1; ++x) {
+          const int a = average[x];
+          const int next = a + (((in[x * frame.step] << 8) - a) * fast + 2048) / 4096;
+          average[x] = static_cast<std::uint16_t>(next);
+          out[x] = static_cast<std::uint8_t>((next + 128) >> 8);
+        }
+        continue;
       }
-      // Rounded, not floored: a floor would pull a steady pixel down by
-      // up to half a grey level at the slow rate.
-      const int next = std::clamp(a + ((target - a) * rate + 2048) / 4096, 0, 0xFFFF);
-      average[x] = static_cast<std::uint16_t>(next);
-      out[x] = static_cast<std::uint8_t>(std::min(255, (next + 128) >> 8));
+      for (int x = x0; x < x1; ++x) {
+        const std::uint64_t bit = std::uint64_t{1} << (x & 63);
+        const int a = average[x];
+        int target = 0, rate = fast;
+        if ((near_bits & bit) != 0) {
+          // Under the person and the margin around them the scene is not
+          // seen, but the light on it changes as on the rest of the scene:
+          // these pixels follow the scene's overall change (the exposure
+          // gain), so that what the subject uncovers after an hour under a
+          // window is not stale.
+          target = (a * gain_q12 + 2048) >> 12;
+        } else {
+          // Foreground that is not the person adapts slowly: a passer-by is
+          // not learnt, an object left there is, in a minute or two.
+          if ((fg_bits & bit) != 0) rate = slow;
+          target = in[x * frame.step] << 8;
+        }
+        // Rounded, not floored: a floor would pull a steady pixel down by
+        // up to half a grey level at the slow rate.
+        const int next = std::clamp(a + ((target - a) * rate + 2048) / 4096, 0, 0xFFFF);
+        average[x] = static_cast<std::uint16_t>(next);
+        out[x] = static_cast<std::uint8_t>(std::min(255, (next + 128) >> 8));
+      }
     }
   }
 }
@@ -185,22 +229,20 @@ void dilate_square(const BitMask& in, int radius, BitMask& out) {
       reach += s;
     }
   }
-  // Vertically the same way: OR with the rows s above and below, s
-  // doubling, so a radius costs log2(radius) passes, not 2·radius + 1.
-  std::vector<std::uint64_t> previous(grown.size());
+  // Vertically the same way, in place: rows pulled up from s below
+  // (top-down, so each reads a row not yet grown in this pass), then down
+  // from s above (bottom-up); each pass reaches s further.
   for (int reach = 0; reach < radius;) {
     const int s = std::min(std::max(reach, 1), radius - reach);
-    previous = grown;
-    for (int y = 0; y < height; ++y) {
+    for (int y = 0; y + s < height; ++y) {
       std::uint64_t* dst = grown.data() + static_cast<std::ptrdiff_t>(y) * words;
-      if (y - s >= 0) {
-        const std::uint64_t* up = previous.data() + static_cast<std::ptrdiff_t>(y - s) * words;
-        for (int w = 0; w < words; ++w) dst[w] |= up[w];
-      }
-      if (y + s < height) {
-        const std::uint64_t* down = previous.data() + static_cast<std::ptrdiff_t>(y + s) * words;
-        for (int w = 0; w < words; ++w) dst[w] |= down[w];
-      }
+      const std::uint64_t* below = dst + static_cast<std::ptrdiff_t>(s) * words;
+      for (int w = 0; w < words; ++w) dst[w] |= below[w];
+    }
+    for (int y = height - 1; y - s >= 0; --y) {
+      std::uint64_t* dst = grown.data() + static_cast<std::ptrdiff_t>(y) * words;
+      const std::uint64_t* above = dst - static_cast<std::ptrdiff_t>(s) * words;
+      for (int w = 0; w < words; ++w) dst[w] |= above[w];
     }
     reach += s;
   }

@@ -80,9 +80,9 @@ class BackgroundModel {
   // One frame after its silhouette: `foreground` is everything that
   // differed from the background, `person` where the subject is (empty
   // when nobody is), `gain` the frame's exposure relative to the
-  // background. Adapts an eighth of the rows per frame (each row every
-  // eighth frame at the matching rate: the same time constant at an
-  // eighth of the cost), and re-learns after an empty spell.
+  // background. Adapts a sixteenth of the rows per frame (each row every
+  // sixteenth frame at the matching rate: the same time constant at a
+  // sixteenth of the cost), and re-learns after an empty spell.
   void update(const LumaView& frame, const BitMask& foreground, const BitMask& person, double gain = 1.0);
 
  private:
@@ -98,7 +98,7 @@ class BackgroundModel {
   int learned_ = 0;
   int empty_frames_ = 0;
   std::uint64_t frame_counter_ = 0;
-  BitMask protect_;  // scratch: the person grown by the margin
+  std::vector<std::uint64_t> near_row_;  // scratch: one row of the person grown by the margin, and its copy
 };
 
 // The square dilation of `in` by `radius` pixels into `out` (same size).
