@@ -15,6 +15,7 @@
 #include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
+#include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/estimator/silhouette/background_bootstrap.hpp"
 
@@ -56,27 +57,19 @@ Status from_recording(const BackgroundOptions& o, SceneCapture& capture) {
 }
 
 Status from_cameras(const BackgroundOptions& o, const Config& config, SceneCapture& capture) {
-  const auto format = parse_pixel_format(config.cameras.pixel_format);
-  if (!format) return Error{fmt::format("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format)};
-  const std::string paths[2] = {o.frontal.empty() ? config.cameras.frontal : o.frontal,
-                                o.lateral.empty() ? config.cameras.lateral : o.lateral};
-  const char* names[2] = {"frontal", "lateral"};
+  if (!parse_pixel_format(config.cameras.pixel_format))
+    return Error{fmt::format("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format)};
+  // The cameras as the daemon opens them, on the devices given here if any.
+  const CameraPairOptions pair = camera_pair_options(config);
+  V4l2CameraOptions views[2] = {pair.frontal, pair.lateral};
+  if (!o.frontal.empty()) views[0].path = o.frontal;
+  if (!o.lateral.empty()) views[1].path = o.lateral;
   for (int v = 0; v < 2; ++v) {
-    V4l2CameraOptions co;
-    co.path = paths[v];
-    co.name = names[v];
-    co.pixel_format = *format;
-    co.width = static_cast<std::uint32_t>(config.cameras.width);
-    co.height = static_cast<std::uint32_t>(config.cameras.height);
-    co.fps = config.cameras.fps;
-    co.exposure_us = config.cameras.exposure_us;
-    co.gain = config.cameras.gain;
-    co.buffers = static_cast<unsigned>(config.cameras.buffers);
-    V4l2Camera camera(co);
+    V4l2Camera camera(views[v]);
     if (auto s = camera.start(); !s) return s.error();
     for (int i = 0; i < o.frames; ++i) {
       auto frame = camera.next(std::chrono::milliseconds(2000));
-      if (!frame) return Error{fmt::format("{} ({}): no frame within 2 s", names[v], paths[v])};
+      if (!frame) return Error{fmt::format("{} ({}): no frame within 2 s", views[v].name, views[v].path)};
       capture.views[v].add(frame->luma());
     }
     camera.stop();
