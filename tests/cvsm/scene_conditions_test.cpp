@@ -63,7 +63,9 @@ TEST_P(SceneConditions, TrackingIsTrustworthyInEveryCondition) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Phantom, SceneConditions,
-                         ::testing::Values(Case{"sway", "petite"}, Case{"flexion", "tall"}),
+                         // A seated worker at start: the bootstrap must see the knees too.
+                         ::testing::Values(Case{"sway", "petite"}, Case{"flexion", "tall"},
+                                           Case{"seated_flexion", "petite"}),
                          [](const auto& info) { return std::string(info.param.scenario) + "_" + info.param.subject; });
 
 }  // namespace

@@ -171,6 +171,14 @@ std::optional<std::vector<std::uint8_t>> BackgroundBootstrap::attempt() {
   cv::inpaint(stats.median, swept | band, held_out, 5, cv::INPAINT_TELEA);
   last_.holdout_p90 = p90_difference(stats.median, held_out, band);
   if (last_.holdout_p90 > options_.max_holdout_error * options_.threshold) return std::nullopt;
+  // A part of the subject outside the region (a knee, a hand on the
+  // bench) shows in the band as pixels far off the prediction, however
+  // smooth the rest is: then the region does not hold the subject.
+  cv::Mat band_error;
+  cv::absdiff(stats.median, held_out, band_error);
+  last_.holdout_outliers = static_cast<double>(cv::countNonZero((band_error > options_.threshold) & band)) /
+                           std::max(1, cv::countNonZero(band));
+  if (last_.holdout_outliers > options_.max_holdout_outliers) return std::nullopt;
 
   // The scene inside the swept region as its surroundings predict it.
   cv::Mat predicted;

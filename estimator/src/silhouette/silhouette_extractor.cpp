@@ -93,8 +93,9 @@ SilhouetteStatus SilhouetteExtractor::start_background(const LumaView& frame) {
     const BootstrapAttempt& a = bootstrap_.last_attempt();
     spdlog::debug(
         "silhouette: bootstrap attempt: {} samples, {} px moved, {} px predicted ({:.0f} % seen uncovered), "
-        "prediction off by {} grey levels on held-out scene{}",
-        a.samples, a.moved_px, a.swept_px, 100 * a.revealed(), a.holdout_p90, image ? ": accepted" : "");
+        "prediction off by {} grey levels on held-out scene, {:.1f} % of it beyond the threshold{}",
+        a.samples, a.moved_px, a.swept_px, 100 * a.revealed(), a.holdout_p90, 100 * a.holdout_outliers,
+        image ? ": accepted" : "");
     if (image) {
       const LumaView view{image->data(), width_, height_, width_, 1};
       if (model_.set(view, BackgroundSource::Bootstrapped)) {

@@ -36,6 +36,9 @@ struct BootstrapOptions {
   // scene has too much structure to be predicted, and there is no
   // bootstrap until a background is stored.
   double max_holdout_error = 0.5;
+  // ... and at most this fraction of it may be off by more than the
+  // threshold (a part of the subject reaching out of the region).
+  double max_holdout_outliers = 0.005;
 };
 
 struct BootstrapAttempt {
@@ -44,6 +47,7 @@ struct BootstrapAttempt {
   std::int64_t swept_px = 0;     // the region the subject covered at some time (holes filled)
   std::int64_t revealed_px = 0;  // of those, pixels seen showing the predicted scene
   double holdout_p90 = 0;        // grey levels: the prediction's error on held-out scene
+  double holdout_outliers = 0;   // fraction of the held-out scene off by more than the threshold
   double revealed() const { return swept_px > 0 ? double(revealed_px) / double(swept_px) : 0.0; }
 };
 

@@ -10,7 +10,7 @@
 namespace spinewatch {
 
 struct PersonBox {
-  double x_min_mm = -250, x_max_mm = 350;  // posterior … anterior (a seated subject's knees)
+  double x_min_mm = -250, x_max_mm = 650;  // posterior … anterior (a seated subject's knees)
   double y_max_mm = 1950;                  // floor … above a tall head
   double z_half_mm = 300;                  // shoulders and arms
 };
