@@ -41,7 +41,10 @@ class DaemonBackground : public ::testing::Test {
   std::filesystem::path write_config(const std::filesystem::path& rec, const std::string& silhouette) {
     const auto path = dir / "spinewatch.toml";
     test::write_file(path, "[station]\nname = \"bg\"\n[cameras]\nsource = \"recording\"\nrecording = \"" + rec.string() +
-                               "\"\ncalibration = \"/nonexistent/cal.yaml\"\n[silhouette]\n" + silhouette +
+                               "\"\ncalibration = \"/nonexistent/cal.yaml\"\n"
+                               // Every pair estimated, however slow the build (these
+                               // tests are about the background, not the pacing).
+                               "replay = \"fast\"\n[silhouette]\n" + silhouette +
                                "\n[publish]\nclient_queue = 100000\n");
     return path;
   }
@@ -67,14 +70,14 @@ class DaemonBackground : public ::testing::Test {
       ADD_FAILURE() << "no connection\n" << daemon.log();
       return lines;
     }
-    EXPECT_TRUE(client->read_line(5s));  // hello
+    EXPECT_TRUE(client->read_line(test::scaled(5s)));  // hello
     while (static_cast<int>(lines.size()) < count) {
-      auto line = client->read_line(5s);
+      auto line = client->read_line(test::scaled(5s));
       if (!line) break;
       lines.push_back(nlohmann::json::parse(*line));
     }
     daemon.signal(SIGTERM);
-    EXPECT_EQ(daemon.wait_exit(5s), 0) << daemon.log();
+    EXPECT_EQ(daemon.wait_exit(test::scaled(5s)), 0) << daemon.log();
     if (log) *log = daemon.log();
     return lines;
   }

@@ -88,13 +88,13 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
   // 45 lines at the recorded 30 Hz: 1.5 s.
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < 45; ++i) {
-    auto la = a->read_line(2s);
-    auto lb = b->read_line(2s);
+    auto la = a->read_line(test::scaled(2s));
+    auto lb = b->read_line(test::scaled(2s));
     ASSERT_TRUE(la && lb) << "a reader stalled at line " << i << "\n" << daemon.log();
     lines_a.push_back(*la);
     lines_b.push_back(*lb);
   }
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, 4s) << "readers were slowed down";
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, test::scaled(4s)) << "readers were slowed down";
 
   const auto hello = nlohmann::json::parse(lines_a[0]);
   EXPECT_EQ(hello.at("class"), "hello");
@@ -132,7 +132,7 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
 
   const auto stop_start = std::chrono::steady_clock::now();
   daemon.signal(SIGTERM);
-  const auto code = daemon.wait_exit(2s);
+  const auto code = daemon.wait_exit(test::scaled(2s));
   ASSERT_TRUE(code) << "no exit within 2 s of SIGTERM\n" << daemon.log();
   EXPECT_EQ(*code, 0) << daemon.log();
   std::printf("stopped %lld ms after SIGTERM\n",
@@ -194,7 +194,7 @@ TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
   auto refused = test::run_cli("watch --unix '" + (dir / "nobody.sock").string() + "' --count 1");
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   daemon.signal(SIGINT);
-  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
 }
 
 // sd_notify through a datagram socket standing in for systemd's.
@@ -225,9 +225,9 @@ TEST_F(DaemonE2E, NotifiesReadyStatusWatchdogAndStopping) {
       if (n > 0) messages.emplace_back(buf, static_cast<std::size_t>(n));
     }
   };
-  receive_for(1500ms);
+  receive_for(test::scaled(1500ms));
   daemon.signal(SIGTERM);
-  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
   receive_for(100ms);
   ::close(notify);
 
@@ -255,7 +255,7 @@ TEST_F(DaemonE2E, AMissingTriggerControllerIsLoggedAndTheDaemonRunsOn) {
   ASSERT_TRUE(test::eventually([&] { return daemon.log().find("ready") != std::string::npos; }, 10s)) << daemon.log();
   std::this_thread::sleep_for(1500ms);  // status ticks: no second message while it keeps failing
   daemon.signal(SIGTERM);
-  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
   const std::string log = daemon.log();
   // One error line naming the device; the status lines carry it too.
   const std::string error = "trigger controller /nonexistent/ttyUSB9: cannot open: No such file or directory (retrying every 5 s)";
@@ -305,13 +305,13 @@ TEST_F(DaemonE2E, MemoryStaysFlatOverTenThousandPairs) {
   ASSERT_GT(rss_1000, 0);
 #if defined(__SANITIZE_ADDRESS__)
   daemon.signal(SIGTERM);
-  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
   GTEST_SKIP() << "RSS bound not checked under AddressSanitizer (quarantine holds freed memory)";
 #endif
   // One pair is 300 kB of pixels: keeping even 1 % of them would add ~30 MB.
   EXPECT_LT(rss_10000 - rss_1000, 16 * 1024) << daemon.log();
   daemon.signal(SIGTERM);
-  EXPECT_EQ(daemon.wait_exit(2s), 0) << daemon.log();
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
 }
 
 }  // namespace

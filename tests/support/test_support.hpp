@@ -7,6 +7,18 @@
 
 namespace spinewatch::test {
 
+// How much longer a wait on the estimator may take in this build. Under
+// ASan and UBSan every memory access of the CVSM's bit loops is checked:
+// building a subject model (≈ 2 000 cost evaluations over the first ten
+// pairs) takes 5–7 s instead of 0.4 s, and a test waiting 2 s for the
+// first postures, or for a daemon to stop while it is in that work,
+// would fail on the build, not on the behaviour.
+inline constexpr int kTimeScale = SPINEWATCH_TEST_TIME_SCALE;
+template <class Duration>
+constexpr Duration scaled(Duration d) {
+  return d * kTimeScale;
+}
+
 // A plausible tracking posture: seq 17, t_ns 566666666, a gently curved
 // spine rotating a little per level, fit cost 0.031, latency 412 µs.
 Posture sample_tracking_posture();
