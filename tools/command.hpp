@@ -23,6 +23,7 @@ void add_deform_command(CLI::App& app, ExitCode& exit_code);
 void add_fit_spine_command(CLI::App& app, ExitCode& exit_code);
 void add_fit_cvsm_command(CLI::App& app, ExitCode& exit_code);
 void add_fit_anthropometry_command(CLI::App& app, ExitCode& exit_code);
+void add_population_command(CLI::App& app, ExitCode& exit_code);
 void add_phantom_command(CLI::App& app, ExitCode& exit_code);
 void add_record_command(CLI::App& app, ExitCode& exit_code);
 void add_devices_command(CLI::App& app, ExitCode& exit_code);

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   cli::add_fit_spine_command(app, exit_code);
   cli::add_fit_cvsm_command(app, exit_code);
   cli::add_fit_anthropometry_command(app, exit_code);
+  cli::add_population_command(app, exit_code);
   cli::add_phantom_command(app, exit_code);
   cli::add_record_command(app, exit_code);
   cli::add_devices_command(app, exit_code);

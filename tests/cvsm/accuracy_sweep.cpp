@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  CvsmOptions options;
+  CvsmOptions options = test::generic_subject_options();  // the named phantom subjects (phantom_run.hpp)
   options.local_budget = local_budget;
   int runs = 0, neck_over = 0, waist_over = 0;
   double worst = 0, neck_sum = 0, waist_sum = 0;

@@ -289,6 +289,14 @@ struct Errors {
   int lost = 0, frames = 0;
 };
 
+// These subjects are CVSM body models on the generic spine: tracked with
+// the same placement (the measured one is tests/population's).
+CvsmOptions generic_spine_options() {
+  CvsmOptions o;
+  o.spine_placement = SpinePlacementMode::Generic;
+  return o;
+}
+
 Errors track_sequence(CvsmTracker& tracker, const CameraRig& rig, const BodyModel& subject,
                       const std::vector<CvsmPose>& poses) {
   Errors e;
@@ -323,7 +331,7 @@ TEST(CvsmTracker, TracksAnotherSubjectsModelThroughABend) {
     const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);  // 0 → 1 → 0
     poses.push_back(bend(50 * s, 12 * s, 6 * s));
   }
-  CvsmTracker tracker(rig, CvsmOptions{});
+  CvsmTracker tracker(rig, generic_spine_options());
   const Errors e = track_sequence(tracker, rig, subject, poses);
   ASSERT_NE(tracker.subject_model(), nullptr);
   EXPECT_NEAR(tracker.subject_model()->shape.height_mm, 1620, 30);
@@ -339,7 +347,7 @@ TEST(CvsmTracker, TracksAnotherSubjectsModelThroughABend) {
 TEST(CvsmTracker, NoPersonIsLostAndItRecoversAfterAJump) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel subject = other_subject();
-  CvsmTracker tracker(rig, CvsmOptions{});
+  CvsmTracker tracker(rig, generic_spine_options());
   const Views upright = render(rig, subject, CvsmPose{});
   for (int i = 0; i < 10; ++i) tracker.track(upright.frontal, upright.lateral);
   EXPECT_EQ(tracker.track(upright.frontal, upright.lateral).state, TrackingState::Tracking);
@@ -368,7 +376,7 @@ TEST(CvsmTracker, NoPersonIsLostAndItRecoversAfterAJump) {
 TEST(CvsmTracker, FlaggedAndHalfOccludedSilhouettesNeverJumpWildly) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel subject = other_subject();
-  CvsmTracker tracker(rig, CvsmOptions{});
+  CvsmTracker tracker(rig, generic_spine_options());
   const Views upright = render(rig, subject, CvsmPose{});
   CvsmResult good;
   for (int i = 0; i < 12; ++i) good = tracker.track(upright.frontal, upright.lateral);

@@ -26,7 +26,12 @@ struct SceneRunStats {
 
 struct SceneRunOptions {
   bool stored_background = false;  // give the estimator the scene's empty images
-  EstimatorOptions estimator;
+  // The phantom's named subjects carry the generic spine (phantom_run.hpp).
+  EstimatorOptions estimator = [] {
+    EstimatorOptions o;
+    o.spine_placement = SpinePlacementMode::Generic;
+    return o;
+  }();
 };
 
 inline SceneRunStats run_scene(const phantom::PhantomSequence& seq, const SceneRunOptions& options = {}) {
@@ -40,12 +45,7 @@ inline SceneRunStats run_scene(const phantom::PhantomSequence& seq, const SceneR
   SceneRunStats st;
   for (int i = 0; i < seq.frame_count(); ++i) {
     const phantom::PhantomFrame f = seq.render(i);
-    std::vector<std::uint8_t> fr(f.luma[0].datastart, f.luma[0].dataend), la(f.luma[1].datastart, f.luma[1].dataend);
-    const FrameFormat format = FrameFormat::packed(PixelFormat::GREY, static_cast<std::uint32_t>(f.luma[0].cols),
-                                                   static_cast<std::uint32_t>(f.luma[0].rows));
-    FramePair pair{f.seq, f.t_ns, Frame::owning(format, {f.seq, f.t_ns}, std::move(fr)),
-                   Frame::owning(format, {f.seq, f.t_ns}, std::move(la))};
-    const Posture p = estimator.process(pair);
+    const Posture p = estimator.process(phantom::grey_pair(f));
     st.background = p.background;
     if (!f.truth.neck) continue;
     ++st.pairs;

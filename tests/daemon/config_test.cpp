@@ -4,6 +4,7 @@
 #include <set>
 
 #include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/estimator_options.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {
@@ -105,6 +106,24 @@ TEST(Config, AnnotatedDefaultFileListsEveryKeyWithItsDefault) {
   EXPECT_EQ(in_file, std::set<std::string>(keys.begin(), keys.end()));
 
   EXPECT_TRUE(*c == Config{}) << "config/spinewatch.toml and config.hpp disagree on a default";
+}
+
+}  // namespace
+}  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+// subject.spine_placement reaches the estimator (its effect on the
+// postures: tests/population, PopulationSweep.MeasuredPlacementBeatsTheGenericSpine).
+TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).spine_placement, SpinePlacementMode::Measured);
+  auto generic = parse_config("[subject]\nspine_placement = \"generic\"\n", "s.toml");
+  ASSERT_TRUE(generic) << generic.error().message;
+  EXPECT_EQ(estimator_options(*generic).spine_placement, SpinePlacementMode::Generic);
+  auto bad = parse_config("[subject]\nspine_placement = \"ansur\"\n", "s.toml");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "s.toml:2: subject.spine_placement: \"ansur\" is not one of: measured, generic");
 }
 
 }  // namespace

@@ -117,6 +117,8 @@ const std::vector<Key>& keys() {
 
       double_key("subject.mass_kg", [](Config& c) -> double& { return c.subject.mass_kg; }, {20.0, 250.0}),
       double_key("subject.height_mm", [](Config& c) -> double& { return c.subject.height_mm; }, {1000.0, 2300.0}),
+      string_key("subject.spine_placement", [](Config& c) -> std::string& { return c.subject.spine_placement; },
+                 {"measured", "generic"}),
 
       string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
       string_key("publish.unix_socket", [](Config& c) -> std::string& { return c.publish.unix_socket; }),

@@ -19,6 +19,8 @@ EstimatorOptions estimator_options(const Config& c) {
   o.voxel_mm = c.spine.voxel_mm;
   o.mass_kg = c.subject.mass_kg;
   o.height_mm = c.subject.height_mm;
+  // The key's values are checked when the file is parsed.
+  if (auto mode = parse_spine_placement_mode(c.subject.spine_placement)) o.spine_placement = *mode;
   return o;
 }
 

@@ -36,6 +36,12 @@ const LinearRegression* AnthropometryModel::find(std::string_view target, bool w
   return nullptr;
 }
 
+const LinearRegression* AnthropometryModel::stature_only(std::string_view target) const {
+  for (const LinearRegression& r : baselines)
+    if (r.target == target) return &r;
+  return nullptr;
+}
+
 namespace {
 
 Result<std::vector<std::string>> string_array(const toml::table& t, std::string_view key, std::string_view source,
@@ -98,6 +104,21 @@ Result<AnthropometryModel> parse_anthropometry(std::string_view text, std::strin
     if (model.find(r.target, r.uses(kMaleInput)))
       return Error{fmt::format("{}:{}: {}: a second model of {} {} sex", source, t->source().begin.line, ctx, r.target,
                                r.uses(kMaleInput) ? "with" : "without")};
+    // The stature-only baseline beside it: the same target from stature
+    // alone (one per target; the sex-free and the with-sex model share it).
+    if (const toml::table* b = (*t)["stature_only"].as_table(); b && !model.stature_only(r.target)) {
+      LinearRegression base;
+      base.target = r.target;
+      base.inputs = {"stature"};
+      base.coefficients = {0};
+      const std::string bctx = ctx + ".stature_only";
+      if (auto s = detail::read_numbers(*b, source, bctx, {{"intercept", &base.intercept, -1e6, 1e6},
+                                                           {"stature", &base.coefficients[0], -10, 10},
+                                                           {"train_sd", &base.residual_sd, 0, 1e6}});
+          !s)
+        return s.error();
+      model.baselines.push_back(std::move(base));
+    }
     model.regressions.push_back(std::move(r));
   }
   return model;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "coordinate_search.hpp"
+#include "spinewatch/estimator/anatomy/spine_placement.hpp"
 
 namespace spinewatch::cvsm_detail {
 namespace {
@@ -74,7 +75,11 @@ constexpr double kReferenceHeight = 1750;
 // in place and moves only what lies below it.
 // How far T1 rises per millimetre of height: standing, L5 rises with it
 // (it stands on the legs); seated, L5 stays on the seat.
-double t1_fraction(const SpineSpec& spine, SubjectPosture posture) {
+double t1_fraction(const SpineSpec& spine, SubjectPosture posture, bool measured_spine) {
+  // Hanging from the crown, T1 does not follow the height (standing) or
+  // by 7 % of it (seated, where the height is the stature): held still
+  // either way.
+  if (measured_spine) return 0;
   const double t1 = neutral_pose(spine, kReferenceHeight)[kNeckIndex].body_center.y() / kReferenceHeight;
   return posture == SubjectPosture::Standing ? t1 : t1 - spine.l5_height_fraction;
 }
@@ -111,13 +116,46 @@ std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpe
 
 }  // namespace
 
-BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& spine) {
+namespace {
+
+// The measured placement for this estimate: the standing T1 and L5 of
+// people of the subject's stature and where L5 hangs from the crown.
+// Standing, the crown is the stature; seated, the stature is the height
+// the seated search chose.
+struct HangingSpine {
+  SpinePlacement standing;
+  double l5_y = 0;
+};
+std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
+  if (!s.measured_spine) return std::nullopt;
+  const bool standing = s.shape.posture == SubjectPosture::Standing;
+  const double stature = standing && s.measured_stature_mm > 0 ? s.measured_stature_mm : s.shape.height_mm;
+  HangingSpine h;
+  h.standing = default_spine_placement().predict(stature);
+  // Seated, L5 hangs from the crown by its standing distance below it
+  // (the crown as measured: the fitted one trades against the head's shape).
+  const double crown = s.measured_crown_mm > 0 ? s.measured_crown_mm : s.crown_y;
+  h.l5_y = standing ? h.standing.l5_mm : crown - (stature - h.standing.l5_mm);
+  return h;
+}
+
+}  // namespace
+
+BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& generic_spine) {
   Eigen::Vector3d l5 = s.base_l5;
-  if (s.shape.posture == SubjectPosture::Standing) l5.y() = spine.l5_height_fraction * s.shape.height_mm;
+  const std::optional<HangingSpine> hanging = hanging_spine(s);
+  const SpineSpec spine = hanging ? placed_spine(generic_spine, s.shape.height_mm, hanging->standing) : generic_spine;
+  if (hanging)
+    l5.y() = hanging->l5_y;
+  else if (s.shape.posture == SubjectPosture::Standing)
+    l5.y() = spine.l5_height_fraction * s.shape.height_mm;
   // The head reaches the crown: its scale is what is left between T1 and
   // the crown, so changing the height moves the trunk and legs, not the
   // top of the head (the two are measured separately).
   BodyShape shape = s.shape;
+  if (hanging)
+    shape.stature_mm = s.shape.posture == SubjectPosture::Standing && s.measured_stature_mm > 0 ? s.measured_stature_mm
+                                                                                              : s.shape.height_mm;
   const double H = shape.height_mm;
   const double t1 = neutral_pose(spine, H, l5)[kNeckIndex].body_center.y() + s.pose.translation.y();
   const double generic = (kCrown * H) - neutral_pose(spine, H)[kNeckIndex].body_center.y();
@@ -144,12 +182,15 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   if (top_f > 0) tops.push_back(on_plane(rig.frontal, {uf, top_f - 0.5}, Eigen::Vector3d::UnitX(), spine_x).y());
   if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
-  if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
+  if (s.shape.posture == SubjectPosture::Standing && !tops.empty()) {
     s.shape.height_mm = std::clamp(top_y / kCrown, 1300.0, 2200.0);
+    s.measured_stature_mm = top_y;
+  }
   s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, pf.z()};
   if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
     s.base_l5.y() = top_y - (kCrown - spine.l5_height_fraction) * s.shape.height_mm;
   s.crown_y = tops.empty() ? kCrown * s.shape.height_mm : top_y;
+  if (!tops.empty()) s.measured_crown_mm = top_y;
   if (tops.empty()) {
     // The head is cut off by the top of the image: the crown is above its
     // edge (by about a third of a head, a guess the fit refines).
@@ -206,14 +247,19 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
 int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
   std::vector<Eigen::Vector3d> points;
   SubjectEstimate trial = s;
-  const double t1 = t1_fraction(spine, s.shape.posture);
+  const double t1 = t1_fraction(spine, s.shape.posture, s.measured_spine);
   auto eval = [&](const ShapeParams& p, std::int64_t limit) {
     apply_params(trial, p, t1);
     return subject_cost(trial, cost, spec, spine, points, limit);
   };
   const ShapeParams start = params_of(s, t1);
   const std::int64_t c0 = eval(start, INT64_MAX);
-  const ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8, 3};
+  ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8, 3};
+  // Standing on the floor with the spine placed for the measured stature,
+  // the body does not move up or down: a vertical shift would only trade
+  // the template's proportions against the person's and carry the spine
+  // with it.
+  if (s.measured_spine && s.shape.posture == SubjectPosture::Standing) step[6] = 0;
   auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
                                            [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
   apply_params(s, d.params, t1);

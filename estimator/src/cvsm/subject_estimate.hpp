@@ -11,6 +11,15 @@ struct SubjectEstimate {
   BodyShape shape;
   Eigen::Vector3d base_l5{0, 0, 0};  // standing: y follows the height
   double crown_y = 0;                // top of the head (mm, world): fixes shape.head_scale
+  // The spine sits where it does in measured people of the subject's
+  // stature (spine_placement.hpp), not at fixed fractions of the model's
+  // height: the height the outline fit settles on follows the person's
+  // proportions (±40 mm from the stature on ANSUR bodies), and the fitted
+  // crown trades against the head's shape; the stature is what the top
+  // of the head measured in the first upright frame.
+  bool measured_spine = false;
+  double measured_stature_mm = 0;  // standing: the silhouettes' top; 0 when cut off or seated
+  double measured_crown_mm = 0;    // the silhouettes' top, either posture; 0 when cut off
   CvsmPose pose;
 };
 

@@ -197,6 +197,7 @@ struct CvsmTracker::Impl {
       int candidates = 0;
       if (!subject) {
         subject = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+        subject->measured_spine = opt.spine_placement == SpinePlacementMode::Measured;
         candidates += cvsm_detail::choose_posture(*subject, *cost, spec, spine, opt);
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);

@@ -47,6 +47,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.lost_cost = o.lost_cost;
   c.height_mm = o.height_mm;
   c.min_silhouette_px = o.min_blob_px;
+  c.spine_placement = o.spine_placement;
   return c;
 }
 
@@ -84,13 +85,28 @@ struct PostureEstimator::Impl {
     const double height = subject ? subject->shape.height_mm : options.height_mm;
     SpineModelOptions model_options;
     model_options.voxel_mm = options.voxel_mm;
-    spine_model.emplace(SpineModel::generic(height, model_options));
+    // On the spine the CVSM placed in this subject: both models agree on
+    // where T1 and L5 sit when the accurate one is driven to them.
+    // Its neutral spine is the subject model's (the span between T1 and L5
+    // the measured placement gave), set where the generic one stands.
+    SubjectSpine spine = generic_subject(height);
+    if (subject) {
+      SpinePose neutral = subject->neutral;
+      const Eigen::Vector3d shift = spine[kWaistIndex].pose.body_center - neutral[kWaistIndex].body_center;
+      for (auto& v : neutral) v.body_center += shift;
+      spine = subject_of_neutral(neutral, height);
+    }
+    spine_model.emplace(SpineModel::from_subject(spine, model_options));
     DynamicsOptions dynamics_options;
     dynamics_options.substeps = options.substeps;
     dynamics.emplace(*spine_model, dynamics_options);
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
     spdlog::info("estimator: subject model built (height {:.0f} mm)", height);
+    if (subject)
+      spdlog::debug("estimator: subject model: outline height {:.0f} mm, stature {:.0f} mm, neutral T1 {:.0f} mm, L5 {:.0f} mm",
+                    subject->shape.height_mm, subject->shape.stature_mm, subject->neutral[kNeckIndex].body_center.y(),
+                    subject->neutral[kWaistIndex].body_center.y());
   }
 
   // Logged once per change: the operator learns why there are no postures

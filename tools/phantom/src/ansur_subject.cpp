@@ -47,8 +47,8 @@ Result<Subject> subject_from_ansur(const anthropometry::AnsurSubject& row, const
 
   // The spine from the skin landmarks (docs/anthropometry.md).
   s.t1_height_mm = row.cervicale_height_mm - rule.t1_below_cervicale_mm;
-  s.l5_height_mm = row.iliocristale_height_mm -
-                   (row.sex == Sex::Male ? rule.l5_below_iliocristale_male_mm : rule.l5_below_iliocristale_female_mm);
+  s.l5_height_mm = row.iliocristale_height_mm - rule.l5_below_iliocristale_mm(row.sex == Sex::Male ? spinewatch::Sex::Male
+                                                                                                : spinewatch::Sex::Female);
   s.shoulder_height_mm = row.acromial_height_mm;
   s.hip_joint_height_mm = row.trochanterion_height_mm;  // README: about the hip-joint centre
   s.sitting_height_mm = row.sitting_height_mm;

@@ -149,4 +149,12 @@ std::string PhantomSequence::notes() const {
       options_.shadow, options_.light_drift, options_.passer_by);
 }
 
+FramePair grey_pair(const PhantomFrame& f) {
+  auto bytes = [](const cv::Mat& m) { return std::vector<std::uint8_t>(m.datastart, m.dataend); };
+  const FrameFormat format = FrameFormat::packed(PixelFormat::GREY, static_cast<std::uint32_t>(f.luma[0].cols),
+                                                 static_cast<std::uint32_t>(f.luma[0].rows));
+  return FramePair{f.seq, f.t_ns, Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[0])),
+                   Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[1]))};
+}
+
 }  // namespace spinewatch::phantom

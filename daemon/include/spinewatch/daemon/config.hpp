@@ -76,6 +76,9 @@ struct Config {
   struct Subject {
     double mass_kg = 75.0;
     double height_mm = 1750.0;
+    // Where the spine sits in the measured body: "measured" (regressions on
+    // ANSUR II, docs/anthropometry.md) or "generic" (fixed fractions of height).
+    std::string spine_placement = "measured";
     bool operator==(const Subject&) const = default;
   } subject;
 

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
@@ -49,6 +50,7 @@ struct EstimatorOptions {
   // Subject (config [subject]).
   double mass_kg = 75.0;
   double height_mm = 1750.0;
+  SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
 };
 
 class PostureEstimator {

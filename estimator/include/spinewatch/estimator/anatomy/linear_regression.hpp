@@ -37,8 +37,12 @@ struct LinearRegression {
 // The models of config/anthropometry.toml.
 struct AnthropometryModel {
   std::vector<LinearRegression> regressions;
+  // Each target's stature-only baseline ([regression.stature_only]).
+  std::vector<LinearRegression> baselines;
   // The model for `target`, with or without sex as an input; nullptr when absent.
   const LinearRegression* find(std::string_view target, bool with_sex) const;
+  // `target` from stature alone; nullptr when the file has no baseline for it.
+  const LinearRegression* stature_only(std::string_view target) const;
 };
 
 // Reads the [[regression]] tables of an anthropometry file; `source`

@@ -58,6 +58,9 @@ struct BodyShape {
   // where > 0; the spine keeps its generic fraction of the depth.
   std::array<double, kVertebraCount> measured_depth_mm{};
   SubjectPosture posture = SubjectPosture::Standing;
+  // The stature the spine was placed for (measured placement: the crown
+  // standing, the searched height seated); 0 with the generic placement.
+  double stature_mm = 0;
 };
 
 // One control plane: a 12-point ellipse-like ring in its frame's XZ plane

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
@@ -24,6 +25,8 @@ struct CvsmOptions {
   double height_mm = 1750;       // used only when the head is cut off or the subject sits
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
+  // Where the spine sits in the measured body (config [subject] spine_placement).
+  SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
   int local_budget = 16;         // cost evaluations per tracked frame
   int global_budget = 400;       // cost evaluations for a (re)initialisation

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "spinewatch/estimator/anatomy/spine_spec.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/spine/vertebra_geometry.hpp"
 #include "spinewatch/frames/result.hpp"
@@ -26,6 +27,9 @@ std::string subject_to_json(const SubjectSpine& subject);
 
 // The generic spec's neutral spine for a subject of `height_mm`.
 SubjectSpine generic_subject(double height_mm);
+// A given neutral pose (the subject model's, its spine placed in the
+// measured body) with the generic vertebra sizes scaled to the height.
+SubjectSpine subject_of_neutral(const SpinePose& neutral, double height_mm);
 SpinePose neutral_of(const SubjectSpine& subject);
 
 }  // namespace spinewatch

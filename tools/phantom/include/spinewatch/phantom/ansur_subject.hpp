@@ -6,25 +6,16 @@
 #include <string_view>
 
 #include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/phantom/subject.hpp"
 
 namespace spinewatch::phantom {
 
-// Vertical offsets from a skin landmark down to a vertebral body centre,
-// standing, mm (docs/anthropometry.md gives each one's source and spread).
-struct SkinToVertebra {
-  // T1 body centre below the C7 spinous process tip (cervicale): the tip
-  // of the long, caudally sloping C7 process lies at about the level of
-  // the C7/T1 disc, T1's centre a little below it.
-  double t1_below_cervicale_mm = 15;
-  // L5 body centre below the iliac-crest height (iliocristale): the
-  // intercristal (Tuffier's) line crosses mostly the lower L4 body in men
-  // and the upper L5 body in women (Snider et al. 2008), at L4/L5 pooled
-  // (Kim et al. 2003).
-  double l5_below_iliocristale_male_mm = 25;
-  double l5_below_iliocristale_female_mm = 10;
-};
+// The skin-to-vertebra rule (docs/anthropometry.md gives each offset's
+// source and spread) is the estimator's (anatomy/spine_placement.hpp):
+// one definition, so a measured subject's truth and the estimator's
+// prediction differ only by what the rule does not know (the person).
 
 // The subject of one ANSUR row, standing; its name is "ansur:ID".
 Result<Subject> subject_from_ansur(const anthropometry::AnsurSubject& row, const SkinToVertebra& rule = {});

@@ -12,6 +12,7 @@
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/frames/frame_pair.hpp"
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/phantom/body.hpp"
 #include "spinewatch/phantom/renderer.hpp"
@@ -48,6 +49,9 @@ struct PhantomFrame {
   std::array<cv::Mat, 2> person;  // the person layer: 0 where the scene shows
   Posture truth;
 };
+
+// The frame as both cameras would deliver it to the estimator (GREY).
+FramePair grey_pair(const PhantomFrame& frame);
 
 class PhantomSequence {
  public:

@@ -1,0 +1,111 @@
+// The estimator on measured people it was not built from: a fixed subset
+// of ANSUR II test subjects (both sexes, spread over stature), each
+// rendered by the phantom with the spine placed from the subject's own
+// skin landmarks, estimated pair by pair with the station's default
+// (measured) spine placement; and the same people with the generic
+// placement, which the measured one must beat. docs/anthropometry.md,
+// "Population sweep", has the full table and the command.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/population/report.hpp"
+#include "spinewatch/population/selection.hpp"
+#include "spinewatch/population/sweep.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch::population {
+namespace {
+
+const std::vector<anthropometry::AnsurSubject>& release() {
+  static const auto subjects = [] {
+    auto all = anthropometry::read_ansur(test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+    if (!all) throw std::runtime_error(all.error().message);
+    return std::move(all).value();
+  }();
+  return subjects;
+}
+
+// Three men and three women of the test set, standing and seated.
+std::vector<anthropometry::AnsurSubject> subset() {
+  SelectionOptions o;
+  o.men = 3;
+  o.women = 3;
+  return select_subjects(release(), o);
+}
+
+std::vector<Run> sweep(SpinePlacementMode placement) {
+  SweepOptions o;
+  o.scenarios = {"flexion", "seated_flexion"};
+  o.estimator.spine_placement = placement;
+  std::vector<Run> runs;
+  for (const auto& s : subset())
+    for (const auto& scenario : o.scenarios) {
+      auto r = run_subject(s, scenario, o);
+      if (!r) throw std::runtime_error(r.error().message);
+      runs.push_back(std::move(r).value());
+    }
+  return runs;
+}
+
+const Pooled& measured() {
+  static const Pooled p = [] {
+    const auto runs = sweep(SpinePlacementMode::Measured);
+    std::cout << format_runs(runs) << format_pooled(pool(runs), "fixed subset, measured placement");
+    return pool(runs);
+  }();
+  return p;
+}
+
+TEST(PopulationSelection, BothSexesOfTheTestSetSpreadOverStature) {
+  const auto s = subset();
+  ASSERT_EQ(s.size(), 6U);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_EQ(anthropometry::partition_of(s[i].id), anthropometry::Partition::Test) << s[i].id;
+    EXPECT_EQ(s[i].sex, i < 3 ? anthropometry::Sex::Male : anthropometry::Sex::Female);
+    EXPECT_GE(bmi(s[i]), 18.0);
+    EXPECT_LE(bmi(s[i]), 38.0);
+    if (i % 3 != 0) {
+      EXPECT_GT(s[i].stature_mm, s[i - 1].stature_mm) << "rising stature within a sex";
+    }
+  }
+  // The first and last thirds of each sex's stature range are represented.
+  EXPECT_GT(s[2].stature_mm - s[0].stature_mm, 60);
+  EXPECT_GT(s[5].stature_mm - s[3].stature_mm, 50);
+}
+
+// Measured on this subset (docs/anthropometry.md): these bounds are the
+// present level with a margin, not the targets, which the sweep
+// does not yet meet (the person-to-person spread of the iliac crest given
+// the stature alone is 23 mm SD).
+// Measured: neck 20.0, waist 24.3, every vertebra 22.0 mm; vertical bias
+// −11.9 … −13.1 mm per level (the targets: 10, 10, 10 and 5).
+constexpr double kNeckMean = 24, kWaistMean = 29, kVertebraeMean = 26, kVerticalBias = 16;
+
+TEST(PopulationSweep, MeasuredPlacementOnTestSubjects) {
+  const Pooled& p = measured();
+  EXPECT_EQ(p.lost, 0);
+  EXPECT_GT(p.tracking, p.frames * 3 / 4);
+  EXPECT_LE(p.stature_abs.max, 15.0) << "the stature from the top of the head";
+  EXPECT_LE(p.neck.mean, kNeckMean);
+  EXPECT_LE(p.waist.mean, kWaistMean);
+  EXPECT_LE(p.vertebrae.mean, kVertebraeMean);
+  for (std::size_t k = 0; k < kVertebraCount; ++k)
+    EXPECT_LE(std::abs(p.bias[k].y()), kVerticalBias) << kVertebraNames[k] << ": the spine sits too high or too low";
+}
+
+TEST(PopulationSweep, MeasuredPlacementBeatsTheGenericSpine) {
+  const Pooled generic = pool(sweep(SpinePlacementMode::Generic));
+  const Pooled& m = measured();
+  // The generic spine sits 30–35 mm low in measured bodies.
+  EXPECT_LT(generic.bias[kWaistIndex].y(), -15.0);
+  EXPECT_LT(generic.bias[kNeckIndex].y(), -15.0);
+  EXPECT_LT(m.vertebrae.mean, generic.vertebrae.mean - 5.0);
+  EXPECT_LT(std::abs(m.bias[kWaistIndex].y()), std::abs(generic.bias[kWaistIndex].y()) - 10.0);
+}
+
+}  // namespace
+}  // namespace spinewatch::population

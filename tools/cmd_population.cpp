@@ -1,0 +1,91 @@
+// spinewatch population: measured adults of ANSUR II (the test set by
+// default, never the people the regressions were fitted on) rendered by
+// the phantom in each scenario and estimated pair by pair; prints each
+// run and the pooled errors with the signed bias per level
+// (docs/anthropometry.md, "Population sweep").
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "command.hpp"
+#include "progress_bar.hpp"
+#include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/population/report.hpp"
+#include "spinewatch/population/selection.hpp"
+#include "spinewatch/population/sweep.hpp"
+
+namespace spinewatch::cli {
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+void add_population_command(CLI::App& app, ExitCode& exit_code) {
+  struct Options {
+    std::string ansur = std::string(anthropometry::kAnsurRelativeDir);
+    std::string set = "test";
+    int men = 20, women = 20;
+    std::string scenarios = "flexion,lateral_left,twist,seated_flexion";
+    std::string placement = "measured";
+    int frames = 0;
+  };
+  auto opts = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("population",
+                                 "Run measured ANSUR II subjects through phantom and estimator; errors per subject and pooled");
+  cmd->add_option("--ansur", opts->ansur, "Directory of the ANSUR II CSV files")->capture_default_str();
+  cmd->add_option("--set", opts->set, "Subjects of the test set (never fitted on) or of the training set")
+      ->check(CLI::IsMember({"test", "train"}))
+      ->capture_default_str();
+  cmd->add_option("--men", opts->men, "Men, spread over the 5th–95th stature percentiles")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--women", opts->women, "Women, likewise")->check(CLI::Range(0, 1000))->capture_default_str();
+  cmd->add_option("--scenarios", opts->scenarios, "Comma-separated phantom scenarios")->capture_default_str();
+  cmd->add_option("--spine-placement", opts->placement, "Estimator's spine placement")
+      ->check(CLI::IsMember({"measured", "generic"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", opts->frames, "Person frames per run (0: each scenario's own)")
+      ->check(CLI::Range(0, 100000));
+  cmd->callback([opts, &exit_code] {
+    auto all = anthropometry::read_ansur(opts->ansur);
+    if (!all) return exit_code.fail(all.error());
+    population::SelectionOptions selection;
+    selection.set = opts->set == "test" ? anthropometry::Partition::Test : anthropometry::Partition::Train;
+    selection.men = opts->men;
+    selection.women = opts->women;
+    const auto subjects = population::select_subjects(*all, selection);
+    if (subjects.empty()) return exit_code.fail(Error{"population: no subject matches the selection"});
+    population::SweepOptions sweep;
+    sweep.scenarios = split_list(opts->scenarios);
+    if (sweep.scenarios.empty()) return exit_code.fail(Error{"--scenarios: no scenario given"}, 2);
+    sweep.frames = opts->frames;
+    if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
+
+    std::vector<population::Run> runs;
+    const std::uint64_t total = subjects.size() * sweep.scenarios.size();
+    {
+      ProgressBar progress("population");
+      for (const auto& subject : subjects)
+        for (const auto& scenario : sweep.scenarios) {
+          auto run = population::run_subject(subject, scenario, sweep);
+          if (!run) return exit_code.fail(run.error());
+          runs.push_back(std::move(run).value());
+          progress.update(runs.size(), total);
+        }
+    }
+    fmt::print("{}\n", population::format_runs(runs));
+    fmt::print("{}", population::format_pooled(population::pool(runs),
+                                              fmt::format("{} set, spine placement {}", opts->set, opts->placement)));
+  });
+}
+
+}  // namespace spinewatch::cli
