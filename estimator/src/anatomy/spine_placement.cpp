@@ -12,10 +12,6 @@ Result<SpinePlacementMode> parse_spine_placement_mode(std::string_view text) {
   return Error{fmt::format("\"{}\": expected \"measured\" or \"generic\"", text)};
 }
 
-std::string_view to_string(SpinePlacementMode mode) {
-  return mode == SpinePlacementMode::Measured ? "measured" : "generic";
-}
-
 Result<SpinePlacementModel> SpinePlacementModel::from(const AnthropometryModel& model, const SkinToVertebra& rule) {
   SpinePlacementModel m;
   for (auto [target, out] : {std::pair{"cervicaleheight", &m.cervicale_}, std::pair{"iliocristaleheight", &m.iliocristale_}}) {

@@ -114,28 +114,25 @@ std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpe
   return cost.evaluate(m, points, limit).total();
 }
 
-}  // namespace
-
-namespace {
-
 // The measured placement for this estimate: the standing T1 and L5 of
 // people of the subject's stature and where L5 hangs from the crown.
 // Standing, the crown is the stature; seated, the stature is the height
 // the seated search chose.
 struct HangingSpine {
+  double stature_mm = 0;
   SpinePlacement standing;
   double l5_y = 0;
 };
 std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
   if (!s.measured_spine) return std::nullopt;
   const bool standing = s.shape.posture == SubjectPosture::Standing;
-  const double stature = standing && s.measured_stature_mm > 0 ? s.measured_stature_mm : s.shape.height_mm;
   HangingSpine h;
-  h.standing = default_spine_placement().predict(stature);
+  h.stature_mm = standing && s.measured_crown_mm > 0 ? s.measured_crown_mm : s.shape.height_mm;
+  h.standing = default_spine_placement().predict(h.stature_mm);
   // Seated, L5 hangs from the crown by its standing distance below it
   // (the crown as measured: the fitted one trades against the head's shape).
   const double crown = s.measured_crown_mm > 0 ? s.measured_crown_mm : s.crown_y;
-  h.l5_y = standing ? h.standing.l5_mm : crown - (stature - h.standing.l5_mm);
+  h.l5_y = standing ? h.standing.l5_mm : crown - (h.stature_mm - h.standing.l5_mm);
   return h;
 }
 
@@ -153,9 +150,7 @@ BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec&
   // the crown, so changing the height moves the trunk and legs, not the
   // top of the head (the two are measured separately).
   BodyShape shape = s.shape;
-  if (hanging)
-    shape.stature_mm = s.shape.posture == SubjectPosture::Standing && s.measured_stature_mm > 0 ? s.measured_stature_mm
-                                                                                              : s.shape.height_mm;
+  if (hanging) shape.stature_mm = hanging->stature_mm;
   const double H = shape.height_mm;
   const double t1 = neutral_pose(spine, H, l5)[kNeckIndex].body_center.y() + s.pose.translation.y();
   const double generic = (kCrown * H) - neutral_pose(spine, H)[kNeckIndex].body_center.y();
@@ -182,10 +177,8 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   if (top_f > 0) tops.push_back(on_plane(rig.frontal, {uf, top_f - 0.5}, Eigen::Vector3d::UnitX(), spine_x).y());
   if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
-  if (s.shape.posture == SubjectPosture::Standing && !tops.empty()) {
+  if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
     s.shape.height_mm = std::clamp(top_y / kCrown, 1300.0, 2200.0);
-    s.measured_stature_mm = top_y;
-  }
   s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, pf.z()};
   if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
     s.base_l5.y() = top_y - (kCrown - spine.l5_height_fraction) * s.shape.height_mm;

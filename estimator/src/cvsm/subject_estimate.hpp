@@ -16,10 +16,9 @@ struct SubjectEstimate {
   // height: the height the outline fit settles on follows the person's
   // proportions (±40 mm from the stature on ANSUR bodies), and the fitted
   // crown trades against the head's shape; the stature is what the top
-  // of the head measured in the first upright frame.
+  // of the head measured in the first frame (standing).
   bool measured_spine = false;
-  double measured_stature_mm = 0;  // standing: the silhouettes' top; 0 when cut off or seated
-  double measured_crown_mm = 0;    // the silhouettes' top, either posture; 0 when cut off
+  double measured_crown_mm = 0;  // the silhouettes' top in the first frame; 0 when cut off
   CvsmPose pose;
 };
 

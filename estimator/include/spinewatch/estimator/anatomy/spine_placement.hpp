@@ -47,7 +47,6 @@ enum class SpinePlacementMode : std::uint8_t {
 };
 // "measured" | "generic"; anything else is an error naming the accepted values.
 Result<SpinePlacementMode> parse_spine_placement_mode(std::string_view text);
-std::string_view to_string(SpinePlacementMode mode);
 
 // T1 and L5 body-centre heights (mm) of the upright neutral pose.
 struct SpinePlacement {
