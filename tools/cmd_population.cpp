@@ -37,6 +37,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     std::string scenarios = "flexion,lateral_left,twist,seated_flexion";
     std::string placement = "measured";
     int frames = 0;
+    bool known_worker = false;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -55,6 +56,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
       ->capture_default_str();
   cmd->add_option("--frames", opts->frames, "Person frames per run (0: each scenario's own)")
       ->check(CLI::Range(0, 100000));
+  cmd->add_flag("--known-worker", opts->known_worker,
+                "Give the estimator each subject's stature and mass, as for a known worker");
   cmd->callback([opts, &exit_code] {
     auto all = anthropometry::read_ansur(opts->ansur);
     if (!all) return exit_code.fail(all.error());
@@ -68,6 +71,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     sweep.scenarios = split_list(opts->scenarios);
     if (sweep.scenarios.empty()) return exit_code.fail(Error{"--scenarios: no scenario given"}, 2);
     sweep.frames = opts->frames;
+    sweep.known_worker = opts->known_worker;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
 
     std::vector<population::Run> runs;
@@ -84,7 +88,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     }
     fmt::print("{}\n", population::format_runs(runs));
     fmt::print("{}", population::format_pooled(population::pool(runs),
-                                              fmt::format("{} set, spine placement {}", opts->set, opts->placement)));
+                                              fmt::format("{} set, spine placement {}{}", opts->set, opts->placement,
+                                                          opts->known_worker ? ", stature and mass given" : "")));
   });
 }
 

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "test_support.hpp"
 
@@ -115,7 +116,7 @@ namespace spinewatch {
 namespace {
 
 // subject.spine_placement reaches the estimator (its effect on the
-// postures: tests/population, PopulationSweep.MeasuredPlacementBeatsTheGenericSpine).
+// postures: tests/population, PopulationSweep.MeasuredPlacementOnTestSubjectsBeatsTheGenericSpine).
 TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).spine_placement, SpinePlacementMode::Measured);
   auto generic = parse_config("[subject]\nspine_placement = \"generic\"\n", "s.toml");
@@ -124,6 +125,27 @@ TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
   auto bad = parse_config("[subject]\nspine_placement = \"ansur\"\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: subject.spine_placement: \"ansur\" is not one of: measured, generic");
+}
+
+TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
+  const EstimatorOptions unknown = estimator_options(*parse_config("", "s.toml"));
+  EXPECT_EQ(unknown.worker, KnownWorker{}) << "by default the worker is not known";
+  auto known = parse_config("[subject]\nstature_mm = 1712\nmass_kg = 68.5\n", "s.toml");
+  ASSERT_TRUE(known) << known.error().message;
+  EXPECT_EQ(estimator_options(*known).worker, (KnownWorker{1712.0, 68.5}));
+  auto zero = parse_config("[subject]\nstature_mm = 0\nmass_kg = 80\n", "s.toml");
+  ASSERT_TRUE(zero) << zero.error().message;
+  EXPECT_EQ(estimator_options(*zero).worker, (KnownWorker{std::nullopt, 80.0}));
+  auto bad = parse_config("[subject]\nstature_mm = 500\n", "s.toml");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "s.toml:2: subject.stature_mm: 500 is out of range [1000, 2300] (0 = not known)");
+  auto heavy = parse_config("[subject]\n\nmass_kg = 260\n", "s.toml");
+  ASSERT_FALSE(heavy);
+  EXPECT_EQ(heavy.error().message, "s.toml:3: subject.mass_kg: 260 is out of range [20, 250] (0 = not known)");
+  // A new worker is applied on SIGHUP, without a restart.
+  EXPECT_TRUE(reloadable_key("subject.stature_mm"));
+  EXPECT_TRUE(reloadable_key("subject.mass_kg"));
+  EXPECT_EQ(changed_keys(*zero, *known), (std::vector<std::string>{"subject.stature_mm", "subject.mass_kg"}));
 }
 
 }  // namespace

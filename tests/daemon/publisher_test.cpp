@@ -166,6 +166,64 @@ TEST_F(PublisherTest, ClientInputIsIgnoredAndFloodersAreDropped) {
   EXPECT_EQ(pub->stats().clients, 2u);
 }
 
+// With a command handler: each line a client sends is answered to that
+// client alone, in order with its stream; accepted commands do not count
+// against the input allowance, other lines do.
+TEST_F(PublisherTest, CommandsAreAnsweredToTheirSenderAlone) {
+  auto options = both();
+  options.max_input_bytes = 200;
+  std::atomic<int> lines{0};
+  options.on_input = [&](std::string_view line, const std::string& client) {
+    ++lines;
+    const bool ok = line.rfind("ok", 0) == 0;
+    return ClientInputReply{"{\"reply\":\"" + std::string(line) + "\",\"from\":\"" + client + "\"}", ok};
+  };
+  auto pub = start(options);
+  ASSERT_TRUE(pub);
+  auto sender = LineClient::unix_socket(dir.path() / "p.sock");
+  auto other = LineClient::tcp(pub->tcp_port());
+  ASSERT_EQ(sender.read_line(), kHello);
+  ASSERT_EQ(other.read_line(), kHello);
+
+  pub->publish(numbered(1));
+  ASSERT_EQ(sender.read_line(), numbered(1));
+  ASSERT_TRUE(sender.send_text("ok one\r\nok tw"));
+  ASSERT_TRUE(sender.send_text("o\n"));
+  auto first = sender.read_line();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(nlohmann::json::parse(*first).at("reply"), "ok one") << "the carriage return is not part of the line";
+  EXPECT_NE(nlohmann::json::parse(*first).at("from").get<std::string>().find("unix"), std::string::npos);
+  EXPECT_EQ(nlohmann::json::parse(*sender.read_line()).at("reply"), "ok two") << "a line split over two reads";
+  pub->publish(numbered(2));
+  EXPECT_EQ(sender.read_line(), numbered(2));
+  EXPECT_EQ(other.read_line(), numbered(1));
+  EXPECT_EQ(other.read_line(), numbered(2)) << "the other client gets no reply";
+
+  // 30 accepted commands (300 bytes) stay within an allowance of 200 bytes
+  // for what is not a command ...
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(sender.send_text("ok " + std::to_string(i % 10) + "...\n"));
+  ASSERT_TRUE(eventually([&] { return lines == 32; }));
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(sender.read_line());
+  EXPECT_EQ(pub->stats().clients_dropped, 0u);
+  // ... which lines that are not commands use up.
+  for (int i = 0; i < 25; ++i) sender.send_text("nonsense\n");
+  ASSERT_TRUE(eventually([&] { return pub->stats().clients_dropped == 1; }));
+  EXPECT_TRUE(sender.wait_closed(5s));
+  EXPECT_EQ(pub->stats().clients, 1u);
+}
+
+TEST_F(PublisherTest, ALineLongerThanACommandDropsTheClient) {
+  auto options = both();
+  options.on_input = [](std::string_view, const std::string&) { return ClientInputReply{}; };
+  auto pub = start(options);
+  ASSERT_TRUE(pub);
+  auto client = LineClient::tcp(pub->tcp_port());
+  ASSERT_EQ(client.read_line(), kHello);
+  ASSERT_TRUE(client.send_text(std::string(513, 'x')));
+  ASSERT_TRUE(eventually([&] { return pub->stats().clients_dropped == 1; }));
+  EXPECT_TRUE(client.wait_closed(5s));
+}
+
 TEST_F(PublisherTest, ManyConnectsAndDisconnectsLeakNoDescriptors) {
   auto pub = start(both());
   ASSERT_TRUE(pub);

@@ -3,6 +3,8 @@
 
 #include <fcntl.h>
 
+#include <functional>
+
 #include <nlohmann/json.hpp>
 
 #include "../daemon/test_client.hpp"
@@ -195,6 +197,81 @@ TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   daemon.signal(SIGINT);
   EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
+}
+
+// The next line of `client` for which `want` holds, skipping the others.
+// Every line read is kept in `seen` (for the schema check).
+std::optional<nlohmann::json> read_line_until(LineClient& client, const std::function<bool(const nlohmann::json&)>& want,
+                                              std::chrono::milliseconds timeout, std::string& seen) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    auto line = client.read_line(std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()));
+    if (!line) return std::nullopt;
+    seen += *line + "\n";
+    auto j = nlohmann::json::parse(*line);
+    if (want(j)) return j;
+  }
+  return std::nullopt;
+}
+
+bool worker_is(const nlohmann::json& j, double stature, const char* stature_source, double mass, const char* mass_source) {
+  if (j.at("class") != "posture" || !j.contains("worker")) return false;
+  const auto& w = j.at("worker");
+  return (stature == 0 || w.at("stature_mm") == stature) && w.at("stature") == stature_source && w.at("mass_kg") == mass &&
+         w.at("mass") == mass_source;
+}
+
+// A known worker: the configured mass, a client's set_worker (answered to
+// that client), a bad command (answered with the error; nothing changes),
+// a reloaded configuration — each reaches the stream's "worker" field.
+TEST_F(DaemonE2E, AKnownWorkerFromConfigCommandAndReloadReachesTheStream) {
+  const auto rec = make_recording(30, 10);
+  const std::string cameras = "source = \"recording\"\nrecording = \"" + rec.string() + "\"\n";
+  const auto config = write_config(cameras + "[subject]\nmass_kg = 70\n");
+  const auto sock = dir / "p.sock";
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+                       dir / "daemon.log");
+  auto client = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  ASSERT_TRUE(client) << daemon.log();
+  const auto wait = test::scaled(10s);
+  std::string seen;
+  auto read_until = [&](LineClient& c, const std::function<bool(const nlohmann::json&)>& want, auto timeout) {
+    return read_line_until(c, want, timeout, seen);
+  };
+  // The configured mass, the stature measured (the phantom stands).
+  ASSERT_TRUE(read_until(*client, [](const auto& j) { return worker_is(j, 0, "measured", 70, "given"); }, wait))
+      << daemon.log();
+
+  ASSERT_TRUE(client->send_text("{\"command\": \"set_worker\", \"stature_mm\": 1712, \"mass_kg\": 64}\n"));
+  auto reply = read_until(*client, [](const auto& j) { return j.at("class") == "reply"; }, wait);
+  ASSERT_TRUE(reply) << daemon.log();
+  EXPECT_EQ(reply->at("ok"), true) << reply->dump();
+  EXPECT_EQ(reply->at("worker").at("stature_mm"), 1712);
+  ASSERT_TRUE(read_until(*client, [](const auto& j) { return worker_is(j, 1712, "given", 64, "given"); }, wait))
+      << daemon.log();
+
+  ASSERT_TRUE(client->send_text("{\"command\": \"set_worker\", \"stature_mm\": 3000}\n"));
+  reply = read_until(*client, [](const auto& j) { return j.at("class") == "reply"; }, wait);
+  ASSERT_TRUE(reply) << daemon.log();
+  EXPECT_EQ(reply->at("ok"), false);
+  EXPECT_EQ(reply->at("error"), "stature_mm: 3000 is out of range [1000, 2300]");
+  EXPECT_TRUE(read_until(*client, [](const auto& j) { return worker_is(j, 1712, "given", 64, "given"); }, wait))
+      << "a rejected command changes nothing";
+
+  std::string text = test::read_file(config);
+  text.replace(text.find("mass_kg = 70\n"), 13, "mass_kg = 70\nstature_mm = 1650\n");
+  test::write_file(config, text);
+  daemon.signal(SIGHUP);
+  EXPECT_TRUE(read_until(*client, [](const auto& j) { return worker_is(j, 1650, "given", 70, "given"); }, wait))
+      << daemon.log();
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
+  test::write_file(dir / "seen.ndjson", seen);
+  EXPECT_EQ(test::validate_ndjson(dir / "seen.ndjson"), "") << "posture, hello and reply lines follow their schemas";
+  const std::string log = daemon.log();
+  EXPECT_NE(log.find("worker set by client #1 (unix): stature 1712 mm, mass 64.0 kg"), std::string::npos) << log;
+  EXPECT_NE(log.find("stature_mm: 3000 is out of range"), std::string::npos) << log;
+  EXPECT_NE(log.find("worker set by the reloaded configuration: stature 1650 mm, mass 70.0 kg"), std::string::npos) << log;
 }
 
 // sd_notify through a datagram socket standing in for systemd's.

@@ -70,6 +70,7 @@ TEST(PostureJson, OutputValidatesAgainstSchema) {
   full.ergonomics = Ergonomics{12.0, 3.0, 1.0, 2, {{"iso11226_trunk_inclination", "ok", 12.0, 0.0}}};
   full.fit.xor_frontal_px = 120;
   full.fit.candidates = 80;
+  full.worker = WorkerBody{1755.0, BodyValueSource::Measured, 82.1, BodyValueSource::Estimated};
   Posture lost;
   lost.seq = 18;
   lost.state = TrackingState::Lost;
@@ -90,6 +91,10 @@ TEST(PostureJson, SchemaRejectsBrokenLines) {
   k["state"] = "lost";  // lost with a posture is a contradiction
   test::write_file(dir / "b.ndjson", k.dump() + "\n");
   EXPECT_NE(test::validate_ndjson(dir / "b.ndjson"), "");
+  auto w = to_json(tracking_posture());
+  w["worker"] = {{"stature_mm", 1755.0}, {"stature", "guessed"}, {"mass_kg", 80.0}, {"mass", "given"}};
+  test::write_file(dir / "c.ndjson", w.dump() + "\n");
+  EXPECT_NE(test::validate_ndjson(dir / "c.ndjson"), "");
 }
 
 }  // namespace

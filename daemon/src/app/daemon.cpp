@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <mutex>
 
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
@@ -12,6 +13,7 @@
 #include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
+#include "spinewatch/daemon/client_command.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
@@ -126,6 +128,11 @@ struct Daemon::Impl {
   DaemonOverrides overrides;
   CameraRig rig;
   std::string source_name;
+  // The worker a client's set_worker or a reload named, for the estimator
+  // thread to take up before its next pair (declared before the publisher,
+  // whose I/O thread sets it).
+  std::mutex worker_mutex;
+  std::optional<KnownWorker> pending_worker;
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
@@ -194,6 +201,35 @@ struct Daemon::Impl {
     }
   }
 
+  static std::string describe(const KnownWorker& w) {
+    return fmt::format("stature {}, mass {}", w.stature_mm ? fmt::format("{:.0f} mm", *w.stature_mm) : "not known",
+                       w.mass_kg ? fmt::format("{:.1f} kg", *w.mass_kg) : "not known");
+  }
+
+  void set_worker(const KnownWorker& worker, std::string_view by) {
+    spdlog::info("worker set by {}: {}; the subject's model is built afresh", by, describe(worker));
+    std::lock_guard lock(worker_mutex);
+    pending_worker = worker;
+  }
+
+  // On the estimator thread, before each pair.
+  std::optional<KnownWorker> take_pending_worker() {
+    std::lock_guard lock(worker_mutex);
+    return std::exchange(pending_worker, std::nullopt);
+  }
+
+  // On the publisher's I/O thread: one line a client sent.
+  ClientInputReply on_client_line(std::string_view line, const std::string& client) {
+    if (line.find_first_not_of(" \t") == std::string_view::npos) return {};
+    auto command = parse_client_command(line);
+    if (!command) {
+      spdlog::warn("client {}: {}", client, command.error().message);
+      return {rejected_reply(command.error()), false};
+    }
+    set_worker(command->worker, "client " + client);
+    return {accepted_reply(*command), true};
+  }
+
   // On the estimator thread: encode and hand over; never blocks.
   void on_posture(const Posture& posture) {
     last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
@@ -259,6 +295,11 @@ struct Daemon::Impl {
       publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name));
     config.station = fresh->station;
     config.log = fresh->log;
+    if (fresh->subject.stature_mm != config.subject.stature_mm || fresh->subject.mass_kg != config.subject.mass_kg) {
+      config.subject.stature_mm = fresh->subject.stature_mm;
+      config.subject.mass_kg = fresh->subject.mass_kg;
+      set_worker(estimator_options(config).worker, "the reloaded configuration");
+    }
     if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());
     if (!applied.empty()) spdlog::info("reload: applied {}", fmt::join(applied, ", "));
     if (!need_restart.empty())
@@ -316,6 +357,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
 
   auto options = publisher_options(d.config, d.overrides);
   if (!options) return options.error();
+  options->on_input = [&d](std::string_view line, const std::string& client) { return d.on_client_line(line, client); };
   auto publisher = Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name));
   if (!publisher) return publisher.error();
   d.publisher = std::move(publisher).value();
@@ -331,7 +373,11 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
   d.pipeline = std::make_unique<Pipeline>(
-      std::move(source).value(), [estimator](const FramePair& pair) { return estimator->process(pair); },
+      std::move(source).value(),
+      [estimator, &d](const FramePair& pair) {
+        if (auto worker = d.take_pending_worker()) estimator->set_worker(*worker);
+        return estimator->process(pair);
+      },
       [&d](const Posture& posture) { d.on_posture(posture); },
       PipelineOptions{.pair_queue = 4, .lossless = plan->kind == SourcePlan::Kind::Recording && !plan->paced});
   return daemon;

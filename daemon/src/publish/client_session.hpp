@@ -2,12 +2,14 @@
 // One connected client of the publisher (private to it). Runs only on the
 // publisher's I/O thread, so it needs no locks. It owns a bounded queue of
 // lines; overflowing it, or sending more than a trickle of input, ends the
-// session as a drop.
+// session as a drop. What the client sends is cut into lines and handed to
+// the publisher's command handler, whose reply goes to this client alone.
 #include <array>
 #include <chrono>
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +18,8 @@
 
 #include <boost/asio.hpp>
 
+#include "spinewatch/daemon/publisher.hpp"
+
 namespace spinewatch::detail {
 
 using Line = std::shared_ptr<const std::string>;  // with its newline, shared by all clients
@@ -23,8 +27,16 @@ using Line = std::shared_ptr<const std::string>;  // with its newline, shared by
 struct SessionLimits {
   std::size_t queue_lines;
   std::size_t input_bytes_per_s;
-  std::size_t input_bytes_total;
+  std::size_t input_bytes_total;  // of lines that were not accepted commands
+  std::size_t input_line_bytes = 512;
 };
+
+// A line the client sent (without its newline) → the reply to it, if any,
+// and whether it was a command the daemon took (those bytes do not count
+// against input_bytes_total: a station's client may set the worker every
+// shift for months).
+using InputReply = ClientInputReply;
+using InputFn = std::function<InputReply(std::string_view line, const std::string& client)>;
 
 enum class CloseKind { Normal, Dropped };
 
@@ -43,8 +55,12 @@ class ClientSession {
 template <class Socket>
 class SocketSession final : public ClientSession, public std::enable_shared_from_this<SocketSession<Socket>> {
  public:
-  SocketSession(Socket socket, std::string name, SessionLimits limits, ClosedFn on_closed)
-      : socket_(std::move(socket)), name_(std::move(name)), limits_(limits), on_closed_(std::move(on_closed)) {}
+  SocketSession(Socket socket, std::string name, SessionLimits limits, InputFn on_input, ClosedFn on_closed)
+      : socket_(std::move(socket)),
+        name_(std::move(name)),
+        limits_(limits),
+        on_input_(std::move(on_input)),
+        on_closed_(std::move(on_closed)) {}
 
   void start(const Line& hello) override {
     window_start_ = std::chrono::steady_clock::now();
@@ -106,7 +122,8 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
                              });
   }
 
-  // Input is read only to be thrown away, and to notice a client that goes.
+  // Input is read for commands (without a handler: thrown away), and to
+  // notice a client that goes.
   void read_more() {
     socket_.async_read_some(boost::asio::buffer(input_),
                             [self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
@@ -121,7 +138,11 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
                                 self->close(CloseKind::Dropped, *problem);
                                 return;
                               }
-                              self->read_more();
+                              if (auto problem = self->take_lines(n)) {
+                                self->close(CloseKind::Dropped, *problem);
+                                return;
+                              }
+                              if (!self->closed_) self->read_more();
                             });
   }
 
@@ -132,18 +153,39 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
       window_bytes_ = 0;
     }
     window_bytes_ += n;
-    total_bytes_ += n;
     if (window_bytes_ > limits_.input_bytes_per_s)
       return "sent more than " + std::to_string(limits_.input_bytes_per_s) + " bytes in a second (clients need send nothing)";
+    return std::nullopt;
+  }
+
+  // Cuts the n new bytes into lines and answers each; a line too long to
+  // be a command, or too much that was not one, ends the session.
+  std::optional<std::string> take_lines(std::size_t n) {
+    partial_.append(input_.data(), n);
+    std::size_t start = 0;
+    for (std::size_t end; (end = partial_.find('\n', start)) != std::string::npos; start = end + 1) {
+      std::string_view line(partial_.data() + start, end - start);
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      const InputReply reply = on_input_ ? on_input_(line, name_) : InputReply{};
+      if (!reply.accepted) total_bytes_ += line.size() + 1;
+      if (reply.line) deliver(std::make_shared<const std::string>(*reply.line + "\n"));
+      if (closed_) return std::nullopt;
+    }
+    partial_.erase(0, start);
+    if (partial_.size() > limits_.input_line_bytes)
+      return "sent a line longer than " + std::to_string(limits_.input_line_bytes) + " bytes";
     if (total_bytes_ > limits_.input_bytes_total)
-      return "sent more than " + std::to_string(limits_.input_bytes_total) + " bytes (clients need send nothing)";
+      return "sent more than " + std::to_string(limits_.input_bytes_total) +
+             " bytes that were not commands (clients need send nothing)";
     return std::nullopt;
   }
 
   Socket socket_;
   std::string name_;
   SessionLimits limits_;
+  InputFn on_input_;
   ClosedFn on_closed_;
+  std::string partial_;  // input after the last newline
   std::deque<Line> queue_;
   std::vector<boost::asio::const_buffer> buffers_;
   std::size_t in_flight_ = 0;

@@ -49,7 +49,7 @@ struct Publisher::Impl {
   bool owns_unix_path = false;  // only a socket we bound is removed on stop
 
   detail::SessionLimits limits() const {
-    return {options.client_queue, options.max_input_bytes_per_s, options.max_input_bytes};
+    return {options.client_queue, options.max_input_bytes_per_s, options.max_input_bytes, options.max_input_line};
   }
 
   template <class Acceptor>
@@ -91,9 +91,8 @@ struct Publisher::Impl {
       socket.set_option(asio::socket_base::send_buffer_size(options.send_buffer_bytes), ignored);
     }
     auto session = std::make_shared<detail::SocketSession<Socket>>(
-        std::move(socket), name, limits(), [this](detail::ClientSession& s, CloseKind kind, std::string_view reason) {
-          on_closed(s, kind, reason);
-        });
+        std::move(socket), name, limits(), options.on_input,
+        [this](detail::ClientSession& s, CloseKind kind, std::string_view reason) { on_closed(s, kind, reason); });
     clients.emplace(session.get(), session);
     clients_now.store(clients.size());
     clients_total.fetch_add(1);

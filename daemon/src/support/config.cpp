@@ -45,6 +45,18 @@ Key double_key(std::string name, double& (*field)(Config&), Range<double> r) {
           }};
 }
 
+// 0 or a value in [min, max]: a measurement that may not be known.
+Key optional_double_key(std::string name, double& (*field)(Config&), Range<double> r) {
+  return {std::move(name), [field, r](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_number()) return fmt::format("expected a number, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            const double v = *n.value<double>();
+            if (v != 0 && !(v >= r.min && v <= r.max))
+              return fmt::format("{} is out of range [{}, {}] (0 = not known)", v, r.min, r.max);
+            field(c) = v;
+            return std::nullopt;
+          }};
+}
+
 Key bool_key(std::string name, bool& (*field)(Config&)) {
   return {std::move(name), [field](Config& c, const toml::node& n) -> std::optional<std::string> {
             if (!n.is_boolean()) return fmt::format("expected true or false, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
@@ -115,7 +127,8 @@ const std::vector<Key>& keys() {
       double_key("spine.voxel_mm", [](Config& c) -> double& { return c.spine.voxel_mm; }, {0.25, 5.0}),
       int_key("spine.substeps", [](Config& c) -> int& { return c.spine.substeps; }, {1, 1000}),
 
-      double_key("subject.mass_kg", [](Config& c) -> double& { return c.subject.mass_kg; }, {20.0, 250.0}),
+      optional_double_key("subject.stature_mm", [](Config& c) -> double& { return c.subject.stature_mm; }, {1000.0, 2300.0}),
+      optional_double_key("subject.mass_kg", [](Config& c) -> double& { return c.subject.mass_kg; }, {20.0, 250.0}),
       double_key("subject.height_mm", [](Config& c) -> double& { return c.subject.height_mm; }, {1000.0, 2300.0}),
       string_key("subject.spine_placement", [](Config& c) -> std::string& { return c.subject.spine_placement; },
                  {"measured", "generic"}),

@@ -127,7 +127,10 @@ std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
   if (!s.measured_spine) return std::nullopt;
   const bool standing = s.shape.posture == SubjectPosture::Standing;
   HangingSpine h;
-  h.stature_mm = standing && s.measured_crown_mm > 0 ? s.measured_crown_mm : s.shape.height_mm;
+  if (s.given_stature_mm)
+    h.stature_mm = *s.given_stature_mm;
+  else
+    h.stature_mm = standing && s.measured_crown_mm > 0 ? s.measured_crown_mm : s.shape.height_mm;
   h.standing = default_spine_placement().predict(h.stature_mm);
   // Seated, L5 hangs from the crown by its standing distance below it
   // (the crown as measured: the fitted one trades against the head's shape).
@@ -177,7 +180,10 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   if (top_f > 0) tops.push_back(on_plane(rig.frontal, {uf, top_f - 0.5}, Eigen::Vector3d::UnitX(), spine_x).y());
   if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
-  if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
+  s.given_stature_mm = options.stature_mm;
+  if (s.given_stature_mm)
+    s.shape.height_mm = *s.given_stature_mm;
+  else if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
     s.shape.height_mm = std::clamp(top_y / kCrown, 1300.0, 2200.0);
   s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, pf.z()};
   if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
@@ -210,10 +216,13 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // Standing or seated: seated models of the configured height and 12 %
   // either side decide (one height alone let a petite seated subject lose
   // to a standing model squeezed to her sitting height).
+  // A given stature is the height: tried alone, and not searched.
   std::optional<SubjectEstimate> best_seated;
   std::int64_t best_seated_cost = INT64_MAX;
-  for (const double scale : {1.0, 0.88, 1.12}) {
-    SubjectEstimate seated = seated_at(scale * options.height_mm);
+  const std::vector<double> scales = s.given_stature_mm ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.88, 1.12};
+  const double guess = s.given_stature_mm.value_or(options.height_mm);
+  for (const double scale : scales) {
+    SubjectEstimate seated = seated_at(scale * guess);
     const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
     if (c < best_seated_cost) {
       best_seated_cost = c;
@@ -221,6 +230,10 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
     }
   }
   if (best_seated_cost >= best) return n + 4;
+  if (s.given_stature_mm) {
+    s = *best_seated;
+    return n + 4;
+  }
   // Seated, the crown no longer tells the height: the trunk's length
   // (crown to seat) does, so heights are tried, each hanging from the
   // measured crown, and the best refined (≈ 800 cost evaluations, once).
@@ -253,6 +266,10 @@ int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // the template's proportions against the person's and carry the spine
   // with it.
   if (s.measured_spine && s.shape.posture == SubjectPosture::Standing) step[6] = 0;
+  // A given stature is the model's height, except standing with the
+  // measured placement, where the height is the outline's proportions and
+  // the stature places the spine (hanging_spine).
+  if (s.given_stature_mm && !(s.measured_spine && s.shape.posture == SubjectPosture::Standing)) step[0] = 0;
   auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
                                            [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
   apply_params(s, d.params, t1);

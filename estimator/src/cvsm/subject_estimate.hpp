@@ -19,6 +19,9 @@ struct SubjectEstimate {
   // of the head measured in the first frame (standing).
   bool measured_spine = false;
   double measured_crown_mm = 0;  // the silhouettes' top in the first frame; 0 when cut off
+  // Given for this worker: the stature, standing or seated, and (with the
+  // generic placement) the model's height, neither then searched.
+  std::optional<double> given_stature_mm;
   CvsmPose pose;
 };
 

@@ -48,6 +48,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.height_mm = o.height_mm;
   c.min_silhouette_px = o.min_blob_px;
   c.spine_placement = o.spine_placement;
+  c.stature_mm = o.worker.stature_mm;
   return c;
 }
 
@@ -65,8 +66,39 @@ struct PostureEstimator::Impl {
       : rig(r),
         options(o),
         silhouettes{SilhouetteExtractor(silhouette_options(o)), SilhouetteExtractor(silhouette_options(o))},
-        tracker(r, cvsm_options(o)) {
-    load_params.body_mass_kg = o.mass_kg;
+        tracker(r, cvsm_options(o)) {}
+
+  // The stature the subject model stands on: given, the top of the head
+  // standing (measured placement), or the height the fit chose.
+  std::optional<WorkerBody> worker_body() const {
+    const KnownWorker& given = options.worker;
+    const BodyModel* subject = tracker.subject_model();
+    if (!given.stature_mm && !subject) return std::nullopt;
+    WorkerBody b;
+    if (given.stature_mm) {
+      b.stature_mm = *given.stature_mm;
+      b.stature_source = BodyValueSource::Given;
+    } else if (subject->shape.stature_mm > 0 && subject->shape.posture == SubjectPosture::Standing) {
+      b.stature_mm = subject->shape.stature_mm;
+      b.stature_source = BodyValueSource::Measured;
+    } else {
+      b.stature_mm = subject->shape.stature_mm > 0 ? subject->shape.stature_mm : subject->shape.height_mm;
+      b.stature_source = BodyValueSource::Estimated;
+    }
+    b.mass_kg = given.mass_kg.value_or(estimated_mass_kg(b.stature_mm));
+    b.mass_source = given.mass_kg ? BodyValueSource::Given : BodyValueSource::Estimated;
+    return b;
+  }
+
+  void set_worker(const KnownWorker& worker) {
+    options.worker = worker;
+    tracker = CvsmTracker(rig, cvsm_options(options));
+    spine_model.reset();
+    dynamics.reset();
+    ergonomics.reset();
+    dynamics_reset_pending = true;
+    previous_t_ns.reset();
+    for (Gate& g : gates) g.active = false;
   }
 
   // The frames' size is known with the first pair: then each view learns
@@ -102,7 +134,10 @@ struct PostureEstimator::Impl {
     dynamics.emplace(*spine_model, dynamics_options);
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
-    spdlog::info("estimator: subject model built (height {:.0f} mm)", height);
+    if (const auto body = worker_body()) load_params.body_mass_kg = body->mass_kg;
+    if (const auto body = worker_body())
+      spdlog::info("estimator: subject model built (stature {:.0f} mm {}, mass {:.1f} kg {})", body->stature_mm,
+                   to_string(body->stature_source), body->mass_kg, to_string(body->mass_source));
     if (subject)
       spdlog::debug("estimator: subject model: outline height {:.0f} mm, stature {:.0f} mm, neutral T1 {:.0f} mm, L5 {:.0f} mm",
                     subject->shape.height_mm, subject->shape.stature_mm, subject->neutral[kNeckIndex].body_center.y(),
@@ -181,6 +216,8 @@ Status PostureEstimator::set_backgrounds(const LumaView& frontal, const LumaView
   return Ok{};
 }
 
+void PostureEstimator::set_worker(const KnownWorker& worker) { impl_->set_worker(worker); }
+
 EstimatorTrace PostureEstimator::last_trace() const {
   const Impl& m = *impl_;
   EstimatorTrace trace;
@@ -221,6 +258,7 @@ Posture PostureEstimator::process(const FramePair& pair) {
   const CvsmResult& fit = m.last_fit;
   posture.state = fit.state;
   posture.fit = fit.fit;
+  posture.worker = m.worker_body();
 
   if (fit.state == TrackingState::Lost) {
     m.dynamics_reset_pending = true;

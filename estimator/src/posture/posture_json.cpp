@@ -120,6 +120,13 @@ ojson to_json(const Posture& p) {
                        {"reba_trunk", e.reba_trunk},
                        {"flags", std::move(flags)}};
   }
+  if (p.worker) {
+    const WorkerBody& w = *p.worker;
+    j["worker"] = {{"stature_mm", round_to(w.stature_mm, 0.1)},
+                   {"stature", to_string(w.stature_source)},
+                   {"mass_kg", round_to(w.mass_kg, 0.1)},
+                   {"mass", to_string(w.mass_source)}};
+  }
   return j;
 }
 

@@ -29,7 +29,9 @@ Result<Run> run_subject(const anthropometry::AnsurSubject& row, const std::strin
   run.stature_mm = row.stature_mm;
   run.bmi = bmi(row);
   run.scenario = scenario;
-  PostureEstimator estimator(seq->options().rig, o.estimator);
+  EstimatorOptions estimator_options = o.estimator;
+  if (o.known_worker) estimator_options.worker = {row.stature_mm, row.mass_kg};
+  PostureEstimator estimator(seq->options().rig, estimator_options);
   for (int i = 0; i < seq->frame_count(); ++i) {
     const phantom::PhantomFrame f = seq->render(i);
     const Posture p = estimator.process(phantom::grey_pair(f));

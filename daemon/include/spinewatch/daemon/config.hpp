@@ -74,8 +74,11 @@ struct Config {
   } spine;
 
   struct Subject {
-    double mass_kg = 75.0;
-    double height_mm = 1750.0;
+    // The worker's, when known (0 = not known: the stature measured or
+    // estimated from the silhouettes, the mass estimated from the stature).
+    double stature_mm = 0;
+    double mass_kg = 0;
+    double height_mm = 1750.0;  // the starting guess where the stature is not seen
     // Where the spine sits in the measured body: "measured" (regressions on
     // ANSUR II, docs/anthropometry.md) or "generic" (fixed fractions of height).
     std::string spine_placement = "measured";

@@ -3,12 +3,14 @@
 // on its own Boost.Asio thread (interfaces.md §5). Each client gets the hello
 // line first, then every published line in order. A client that does not
 // keep up overflows its bounded queue and is dropped; what clients send is
-// read and thrown away, and a client that sends too much is dropped too.
+// cut into lines for the command handler (or thrown away without one), and
+// a client that sends too much is dropped too.
 // publish() never blocks on a socket: the pipeline and the other clients
 // never wait for anyone.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +24,12 @@ struct TcpEndpoint {
   std::uint16_t port = 0;  // 0: any free port (tests)
 };
 
+// What the publisher does with one line a client sent.
+struct ClientInputReply {
+  std::optional<std::string> line;  // sent to that client alone (without its newline)
+  bool accepted = false;            // a command taken: not counted against max_input_bytes
+};
+
 struct PublisherOptions {
   std::optional<TcpEndpoint> tcp;
   std::optional<std::filesystem::path> unix_socket;
@@ -29,9 +37,15 @@ struct PublisherOptions {
   std::size_t max_clients = 32;    // further connections are closed at once
   std::size_t inbox = 1024;        // lines waiting for the I/O thread (oldest dropped)
   // Clients need send nothing; a client that sends more than this in any
-  // one-second window, or more than max_input_bytes in all, is dropped.
+  // one-second window, or more than max_input_bytes in all that were not
+  // accepted commands, or a line longer than max_input_line, is dropped.
   std::size_t max_input_bytes_per_s = 1024;
   std::size_t max_input_bytes = 16 * 1024;
+  std::size_t max_input_line = 512;
+  // Each line a client sends, on the I/O thread (it must not block): the
+  // reply for that client alone, and whether it was an accepted command.
+  // Unset: input is read and thrown away.
+  std::function<ClientInputReply(std::string_view line, const std::string& client)> on_input;
   int send_buffer_bytes = 0;  // SO_SNDBUF for client sockets; 0: the kernel's default
 };
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
+#include "spinewatch/estimator/anatomy/worker.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
@@ -48,8 +49,8 @@ struct EstimatorOptions {
   int substeps = 16;
   double voxel_mm = 1.0;
   // Subject (config [subject]).
-  double mass_kg = 75.0;
-  double height_mm = 1750.0;
+  KnownWorker worker;        // stature and mass when given; else measured or estimated
+  double height_mm = 1750.0;  // the starting guess where the stature is not seen
   SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
 };
 
@@ -66,6 +67,11 @@ class PostureEstimator {
   // Stored empty-scene images for background = "image" (the caller reads
   // them; the estimator does no I/O). Errors name the view and the problem.
   Status set_backgrounds(const LumaView& frontal, const LumaView& lateral);
+
+  // A new worker in view (the daemon's set_worker command): the subject
+  // model and the accurate model are built again from the next upright
+  // frames, with what is given of this one. The background is kept.
+  void set_worker(const KnownWorker& worker);
 
   EstimatorTrace last_trace() const;
 

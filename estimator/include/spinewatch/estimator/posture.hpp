@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "spinewatch/estimator/anatomy/worker.hpp"
 #include "spinewatch/estimator/vertebra_levels.hpp"
 
 namespace spinewatch {
@@ -73,6 +74,9 @@ struct Posture {
   std::vector<LevelLoad> loads;
   std::optional<Ergonomics> ergonomics;
   BackgroundCounts background;  // the daemon publishes these in "stats"
+  // Stature and mass the estimator works with, and where each comes from;
+  // nothing until the subject's model holds one (a given stature: at once).
+  std::optional<WorkerBody> worker;
 };
 
 }  // namespace spinewatch

@@ -23,6 +23,9 @@ struct CvsmOptions {
   int subject_frames = 10;       // upright frames that build the subject's model
   double lost_cost = 0.35;       // XOR / silhouette pixels above which tracking is lost
   double height_mm = 1750;       // used only when the head is cut off or the subject sits
+  // The worker's stature when given (anatomy/worker.hpp): it replaces the
+  // measured crown standing and the height search seated.
+  std::optional<double> stature_mm;
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   // Where the spine sits in the measured body (config [subject] spine_placement).

@@ -22,6 +22,9 @@ struct SweepOptions {
   EstimatorOptions estimator;
   int frames = 0;         // person frames per run; 0 = the scenario's own
   int empty_frames = 10;  // the background is learnt from these
+  // Each subject's own stature and mass given to the estimator, as for a
+  // known worker (config [subject] or the set_worker command).
+  bool known_worker = false;
   std::uint32_t seed = 1;
 };
 

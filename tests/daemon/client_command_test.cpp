@@ -1,0 +1,62 @@
+// The commands a client may send (docs/protocol.md, "Commands"): each
+// line is one command or one clear error naming the field.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "spinewatch/daemon/client_command.hpp"
+
+namespace spinewatch {
+namespace {
+
+TEST(ClientCommand, SetWorkerWithStatureMassOrNeither) {
+  auto both = parse_client_command(R"({"command": "set_worker", "stature_mm": 1755, "mass_kg": 81.5})");
+  ASSERT_TRUE(both) << both.error().message;
+  EXPECT_EQ(both->worker, (KnownWorker{1755.0, 81.5}));
+
+  auto stature = parse_client_command(R"({"command":"set_worker","stature_mm":1600,"mass_kg":null})");
+  ASSERT_TRUE(stature) << stature.error().message;
+  EXPECT_EQ(stature->worker, (KnownWorker{1600.0, std::nullopt}));
+
+  auto unknown = parse_client_command(R"({"command":"set_worker"})");
+  ASSERT_TRUE(unknown) << unknown.error().message;
+  EXPECT_EQ(unknown->worker, KnownWorker{}) << "an unknown worker: everything measured or estimated";
+}
+
+TEST(ClientCommand, BadLinesSayWhatIsWrong) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"hello", "not valid JSON (one JSON object per line)"},
+      {"[1, 2]", "not a JSON object"},
+      {R"({"stature_mm": 1700})", "command: missing"},
+      {R"({"command": 7})", "command: expected a string, got number"},
+      {R"({"command": "shutdown"})", "command: \"shutdown\" is not a command (known: set_worker)"},
+      {R"({"command": "set_worker", "height": 1700})", "height: not a field of set_worker (stature_mm, mass_kg)"},
+      {R"({"command": "set_worker", "stature_mm": "tall"})", "stature_mm: expected a number or null, got string"},
+      {R"({"command": "set_worker", "stature_mm": 400})", "stature_mm: 400 is out of range [1000, 2300]"},
+      {R"({"command": "set_worker", "mass_kg": 300})", "mass_kg: 300 is out of range [20, 250]"},
+  };
+  for (const auto& [line, message] : cases) {
+    auto r = parse_client_command(line);
+    ASSERT_FALSE(r) << line;
+    EXPECT_EQ(r.error().message, message) << line;
+  }
+}
+
+TEST(ClientCommand, RepliesAreReplyLines) {
+  const auto ok = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}}));
+  EXPECT_EQ(ok.at("class"), "reply");
+  EXPECT_EQ(ok.at("v"), 1);
+  EXPECT_EQ(ok.at("command"), "set_worker");
+  EXPECT_EQ(ok.at("ok"), true);
+  EXPECT_EQ(ok.at("worker").at("stature_mm"), 1755.0);
+  EXPECT_TRUE(ok.at("worker").at("mass_kg").is_null());
+
+  const auto bad = nlohmann::json::parse(rejected_reply(Error{"command: missing"}));
+  EXPECT_EQ(bad.at("class"), "reply");
+  EXPECT_EQ(bad.at("ok"), false);
+  EXPECT_EQ(bad.at("error"), "command: missing");
+  EXPECT_FALSE(bad.contains("command"));
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,165 @@
+// A known worker (config [subject] stature_mm / mass_kg, the daemon's
+// set_worker command): the estimator uses what it is given and says so in
+// every posture; what it is not given it measures (the stature standing)
+// or estimates (the stature seated, the mass from the stature), and says
+// that. On measured ANSUR II test subjects through the phantom.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/anthropometry/split.hpp"
+#include "spinewatch/estimator/anatomy/worker.hpp"
+#include "spinewatch/estimator/pipeline.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
+#include "spinewatch/phantom/phantom.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+const anthropometry::AnsurSubject& subject(int id) {
+  static const auto all = [] {
+    auto r = anthropometry::read_ansur(test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+    if (!r) throw std::runtime_error(r.error().message);
+    return std::move(r).value();
+  }();
+  for (const auto& s : all)
+    if (s.id == id) return s;
+  throw std::runtime_error("no ANSUR subject " + std::to_string(id));
+}
+
+phantom::PhantomSequence sequence(const anthropometry::AnsurSubject& row, const std::string& scenario, int frames) {
+  auto body = phantom::subject_from_ansur(row);
+  if (!body) throw std::runtime_error(body.error().message);
+  phantom::PhantomOptions po;
+  po.scenario = scenario;
+  po.subject = std::move(body).value();
+  po.frames = frames;
+  po.empty_frames = 10;
+  auto seq = phantom::PhantomSequence::create(po);
+  if (!seq) throw std::runtime_error(seq.error().message);
+  return std::move(seq).value();
+}
+
+// Every posture of the run, in order.
+std::vector<Posture> run(const phantom::PhantomSequence& seq, PostureEstimator& estimator, int from = 0, int to = -1) {
+  std::vector<Posture> out;
+  for (int i = from; i < (to < 0 ? seq.frame_count() : to); ++i) out.push_back(estimator.process(phantom::grey_pair(seq.render(i))));
+  return out;
+}
+
+const Posture& last_tracking(const std::vector<Posture>& ps) {
+  for (auto it = ps.rbegin(); it != ps.rend(); ++it)
+    if (it->state == TrackingState::Tracking) return *it;
+  throw std::runtime_error("no tracking posture");
+}
+
+double l5_load(const Posture& p) { return p.loads.back().compression_n; }
+
+constexpr int kMan = 15936;  // the test set's median man (1755 mm, 82 kg)
+
+TEST(KnownWorker, GivenStatureAndMassAreUsedAndSaidToBeGiven) {
+  const auto& row = subject(kMan);
+  const auto seq = sequence(row, "seated_flexion", 30);
+  EstimatorOptions o;
+  o.worker = {1700.0, 95.0};
+  PostureEstimator estimator(seq.options().rig, o);
+  const auto postures = run(seq, estimator);
+  for (const Posture& p : postures) {
+    ASSERT_TRUE(p.worker) << "a given stature is known from the first pair";
+    EXPECT_EQ(p.worker->stature_mm, 1700.0);
+    EXPECT_EQ(p.worker->stature_source, BodyValueSource::Given);
+    EXPECT_EQ(p.worker->mass_kg, 95.0);
+    EXPECT_EQ(p.worker->mass_source, BodyValueSource::Given);
+  }
+  EXPECT_EQ(last_tracking(postures).loads.size(), kVertebraCount);
+}
+
+TEST(KnownWorker, UnknownStatureIsMeasuredStandingEstimatedSeatedAndTheMassFromIt) {
+  const auto& row = subject(kMan);
+  for (const char* scenario : {"flexion", "seated_flexion"}) {
+    SCOPED_TRACE(scenario);
+    const auto seq = sequence(row, scenario, 30);
+    PostureEstimator estimator(seq.options().rig, EstimatorOptions{});
+    const auto postures = run(seq, estimator);
+    EXPECT_FALSE(postures.front().worker) << "nothing known before the subject's model exists";
+    const Posture& p = last_tracking(postures);
+    ASSERT_TRUE(p.worker);
+    const bool standing = std::string(scenario) == "flexion";
+    EXPECT_EQ(p.worker->stature_source, standing ? BodyValueSource::Measured : BodyValueSource::Estimated);
+    // Standing, the top of the head measures the stature (8.4 mm worst on
+    // 40 test subjects); seated it is searched (±100 mm).
+    EXPECT_NEAR(p.worker->stature_mm, row.stature_mm, standing ? 15.0 : 150.0);
+    EXPECT_EQ(p.worker->mass_source, BodyValueSource::Estimated);
+    EXPECT_DOUBLE_EQ(p.worker->mass_kg, estimated_mass_kg(p.worker->stature_mm));
+  }
+}
+
+// The loads follow the mass: the same worker given heavier loads L5 more,
+// in proportion (the body's weight above each level scales with the mass).
+TEST(KnownWorker, TheGivenMassDrivesTheLoads) {
+  const auto& row = subject(kMan);
+  const auto seq = sequence(row, "flexion", 30);
+  auto load_with = [&](double mass) {
+    EstimatorOptions o;
+    o.worker.mass_kg = mass;
+    PostureEstimator estimator(seq.options().rig, o);
+    return l5_load(last_tracking(run(seq, estimator)));
+  };
+  const double light = load_with(60), heavy = load_with(120);
+  EXPECT_GT(light, 100.0);
+  EXPECT_NEAR(heavy / light, 2.0, 0.05);
+}
+
+// A new worker mid-run: the subject's model is built again (init, then
+// tracking) with what is given of the new one; the background is kept.
+TEST(KnownWorker, SetWorkerStartsTheSubjectsModelAfresh) {
+  const auto& row = subject(kMan);
+  const auto seq = sequence(row, "flexion", 60);
+  PostureEstimator estimator(seq.options().rig, EstimatorOptions{});
+  const int half = seq.frame_count() - 30;
+  const auto before = run(seq, estimator, 0, half);
+  ASSERT_EQ(before.back().state, TrackingState::Tracking);
+  EXPECT_EQ(before.back().worker->stature_source, BodyValueSource::Measured);
+
+  estimator.set_worker({row.stature_mm, row.mass_kg});
+  const auto after = run(seq, estimator, half);
+  EXPECT_EQ(after.front().state, TrackingState::Init) << "the subject's model is built afresh";
+  EXPECT_EQ(after.front().worker->stature_source, BodyValueSource::Given);
+  const Posture& p = last_tracking(after);
+  EXPECT_EQ(p.worker->stature_mm, row.stature_mm);
+  EXPECT_EQ(p.worker->mass_kg, row.mass_kg);
+  EXPECT_EQ(p.worker->mass_source, BodyValueSource::Given);
+  EXPECT_EQ(p.background.relearns, before.back().background.relearns) << "the background is kept";
+}
+
+// The median BMI the mass is estimated with is the training subjects'
+// (anatomy/worker.hpp), and its error on the test subjects is as documented.
+TEST(KnownWorker, MassEstimateIsTheAnsurTrainingMedianBmi) {
+  auto all = anthropometry::read_ansur(test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+  ASSERT_TRUE(all) << all.error().message;
+  std::vector<double> bmi;
+  double sum = 0, sum2 = 0;
+  int test = 0;
+  for (const auto& s : *all) {
+    const double m = s.stature_mm / 1000;
+    if (anthropometry::partition_of(s.id) == anthropometry::Partition::Train) {
+      bmi.push_back(s.mass_kg / (m * m));
+    } else {
+      const double e = s.mass_kg - estimated_mass_kg(s.stature_mm);
+      sum += e;
+      sum2 += e * e;
+      ++test;
+    }
+  }
+  std::nth_element(bmi.begin(), bmi.begin() + std::ptrdiff_t(bmi.size() / 2), bmi.end());
+  EXPECT_NEAR(bmi[bmi.size() / 2], kMedianBmi, 0.01);
+  const double mean = sum / test, sd = std::sqrt(sum2 / test - mean * mean);
+  EXPECT_NEAR(sd, 12.0, 0.1) << "docs/anthropometry.md: ±12 kg SD on the test subjects";
+}
+
+}  // namespace
+}  // namespace spinewatch
