@@ -1,0 +1,44 @@
+// spinewatch population as a user runs it: bad input is one clear message
+// and a non-zero exit (2 for a bad option value, 1 for what is wrong
+// with the data or the selection); a small sweep prints its tables, and
+// --known-worker says so in the pooled title.
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+
+namespace spinewatch {
+namespace {
+
+struct Case {
+  const char* args;
+  int exit_code;
+  const char* message;
+};
+
+TEST(PopulationCli, BadInputIsOneClearMessage) {
+  const Case cases[] = {
+      {"--scenarios ''", 2, "--scenarios: no scenario given"},
+      {"--set both", 2, "--set: both not in {test,train}"},
+      {"--men -1", 2, "--men: Value -1 not in range 0 to 1000"},
+      {"--ansur /nonexistent", 1, "/nonexistent/ANSUR_II_MALE_Public.csv: cannot open"},
+      {"--men 0 --women 0", 1, "population: no subject matches the selection"},
+      {"--men 1 --women 0 --scenarios dance", 1, "unknown scenario \"dance\""},
+  };
+  for (const Case& c : cases) {
+    const auto r = test::run_cli(std::string("--log-level warn population ") + c.args);
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
+
+TEST(PopulationCli, OneSubjectKnownOrNotPrintsItsTables) {
+  const auto r = test::run_cli("--log-level warn population --men 1 --women 0 --scenarios flexion --frames 20 --known-worker");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| subject | sex | stature |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("test set, spine placement measured, stature and mass given: 1 runs"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("| L5 |"), std::string::npos) << "the per-level bias table\n" << r.output;
+}
+
+}  // namespace
+}  // namespace spinewatch
