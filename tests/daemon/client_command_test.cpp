@@ -26,6 +26,7 @@ TEST(ClientCommand, SetWorkerWithStatureMassOrNeither) {
 TEST(ClientCommand, BadLinesSayWhatIsWrong) {
   const std::pair<const char*, const char*> cases[] = {
       {"hello", "not valid JSON (one JSON object per line)"},
+      {R"({"command": "set_worker", "stature_mm": 1e309})", "not valid JSON (one JSON object per line)"},
       {"[1, 2]", "not a JSON object"},
       {R"({"stature_mm": 1700})", "command: missing"},
       {R"({"command": 7})", "command: expected a string, got number"},

@@ -103,6 +103,10 @@ TEST(PhantomSubject, UnreadableOrMalformedFileNamesTheFile) {
   ASSERT_FALSE(broken);
   EXPECT_NE(broken.error().message.find("broken.json: not valid JSON"), std::string::npos) << broken.error().message;
   EXPECT_NE(broken.error().message.find("line 2"), std::string::npos) << broken.error().message;
+  test::write_file(dir / "huge.json", "{\"height_mm\": 1750,\n \"mass_kg\": -1e400}\n");
+  auto huge = load_subject(dir / "huge.json");
+  ASSERT_FALSE(huge);
+  EXPECT_EQ(huge.error().message, (dir / "huge.json").string() + ": not valid JSON: line 2: number overflow parsing '-1e400'");
 }
 
 }  // namespace

@@ -62,6 +62,14 @@ TEST_F(RecordingReaderErrors, BadJsonSyntaxNamesTheLine) {
   EXPECT_THAT(message, HasSubstr("line 3"));
 }
 
+// Found by mutating recording.json (issue 17): a number beyond double
+// range threw out of the parser and aborted `replay` (SIGABRT).
+TEST_F(RecordingReaderErrors, ANumberBeyondDoubleRangeIsAnErrorWithItsLine) {
+  make("{\n  \"pixel_format\": \"YUYV\",\n  \"width\": 4,\n  \"height\": 4,\n  \"fps\": 1e309\n}");
+  const auto message = open_error();
+  EXPECT_THAT(message, HasSubstr(json_path() + ": invalid JSON: line 5: number overflow parsing '1e309'"));
+}
+
 TEST_F(RecordingReaderErrors, NotAnObject) {
   make("[1, 2]");
   EXPECT_THAT(open_error(), HasSubstr(json_path() + ": must be a JSON object"));

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "spinewatch/capture/json_text.hpp"
+
 namespace spinewatch::recording_detail {
 namespace {
 
@@ -170,14 +172,9 @@ Result<std::vector<FrameInfo>> read_frame_list(const JsonChecker& check, const j
 }
 
 Result<json> parse_text(const JsonChecker& check, const std::string& text) {
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& e) {
-    // nlohmann's text: "[json.exception.parse_error.101] parse error at line 3, column 5: …"
-    std::string_view what = e.what();
-    if (auto p = what.find("] "); p != std::string_view::npos) what.remove_prefix(p + 2);
-    return check.error(fmt::format("invalid JSON: {}", what));
-  }
+  auto parsed = parse_json_text(text);
+  if (!parsed) return check.error(fmt::format("invalid JSON: {}", parsed.error().message));
+  return parsed;
 }
 
 }  // namespace

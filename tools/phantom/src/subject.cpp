@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "spinewatch/capture/json_text.hpp"
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
 
 namespace spinewatch::phantom {
@@ -252,14 +253,9 @@ Result<Subject> load_subject(const std::filesystem::path& path) {
   if (!in) return Error{fmt::format("{}: cannot open", path.string())};
   std::stringstream text;
   text << in.rdbuf();
-  json j;
-  try {
-    j = json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    // e.what() carries "line L, column C" for syntax errors.
-    return Error{fmt::format("{}: not valid JSON: {}", path.string(), e.what())};
-  }
-  return parse_subject(j, path.string());
+  auto j = parse_json_text(text.str());
+  if (!j) return Error{fmt::format("{}: not valid JSON: {}", path.string(), j.error().message)};
+  return parse_subject(*j, path.string());
 }
 
 json to_json(const Subject& s) {
