@@ -73,6 +73,8 @@ class LineClient {
     }
   }
   bool saw_eof() const { return eof_; }
+  // Bytes received after the last whole line (a half line at EOF).
+  std::size_t pending_bytes() const { return buffer_.size(); }
   // True when the peer closed (reads return 0 or an error) within the timeout, after discarding data.
   bool wait_closed(std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
