@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 
 namespace spinewatch::cli {
@@ -28,6 +29,8 @@ void add_check_command(CLI::App& app, ExitCode& exit_code) {
     if (!opts->config.empty()) {
       auto config = load_config(opts->config);
       if (!config) return exit_code.fail(config.error());
+      // The model files it names are part of it.
+      if (auto models = load_estimator_options(*config); !models) return exit_code.fail(models.error());
       spdlog::info("{}: valid", opts->config);
     }
     if (!opts->calibration.empty()) {

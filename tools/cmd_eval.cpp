@@ -74,7 +74,9 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       if (!opts->config.empty()) {
         auto config = load_config(opts->config);
         if (!config) return fail(config.error());
-        options.estimator = estimator_options(*config);
+        auto estimator = load_estimator_options(*config);
+        if (!estimator) return fail(estimator.error());
+        options.estimator = std::move(estimator).value();
       }
       ProgressBar bar("eval");
       auto stats = replay_recording(

@@ -59,6 +59,10 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_flag("--known-worker", opts->known_worker,
                 "Give the estimator each subject's stature and mass, as for a known worker");
   cmd->callback([opts, &exit_code] {
+    // The options first (exit 2), then the data (exit 1).
+    population::SweepOptions sweep;
+    sweep.scenarios = split_list(opts->scenarios);
+    if (sweep.scenarios.empty()) return exit_code.fail(Error{"--scenarios: no scenario given"}, 2);
     auto all = anthropometry::read_ansur(opts->ansur);
     if (!all) return exit_code.fail(all.error());
     population::SelectionOptions selection;
@@ -67,9 +71,6 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     selection.women = opts->women;
     const auto subjects = population::select_subjects(*all, selection);
     if (subjects.empty()) return exit_code.fail(Error{"population: no subject matches the selection"});
-    population::SweepOptions sweep;
-    sweep.scenarios = split_list(opts->scenarios);
-    if (sweep.scenarios.empty()) return exit_code.fail(Error{"--scenarios: no scenario given"}, 2);
     sweep.frames = opts->frames;
     sweep.known_worker = opts->known_worker;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;

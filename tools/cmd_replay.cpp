@@ -40,7 +40,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
     if (!opts->config.empty()) {
       auto config = load_config(opts->config);
       if (!config) return exit_code.fail(config.error());
-      options.estimator = estimator_options(*config);
+      auto estimator = load_estimator_options(*config);
+      if (!estimator) return exit_code.fail(estimator.error());
+      options.estimator = std::move(estimator).value();
       options.background_frontal = config->silhouette.background_frontal;
       options.background_lateral = config->silhouette.background_lateral;
     }

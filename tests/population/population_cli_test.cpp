@@ -4,10 +4,19 @@
 // --known-worker says so in the pooled title.
 #include <gtest/gtest.h>
 
+#include "spinewatch/anthropometry/ansur.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {
 namespace {
+
+// The data wherever the test runs from (the command's default is relative
+// to the repository's parent), unless the case names its own.
+std::string population_command(std::string_view args = "") {
+  if (args.rfind("--ansur", 0) == 0) return "--log-level warn population ";
+  return "--log-level warn population --ansur '" +
+         test::source_path(std::string(anthropometry::kAnsurRelativeDir)).string() + "' ";
+}
 
 struct Case {
   const char* args;
@@ -25,14 +34,14 @@ TEST(PopulationCli, BadInputIsOneClearMessage) {
       {"--men 1 --women 0 --scenarios dance", 1, "unknown scenario \"dance\""},
   };
   for (const Case& c : cases) {
-    const auto r = test::run_cli(std::string("--log-level warn population ") + c.args);
+    const auto r = test::run_cli(population_command(c.args) + c.args);
     EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
 }
 
 TEST(PopulationCli, OneSubjectKnownOrNotPrintsItsTables) {
-  const auto r = test::run_cli("--log-level warn population --men 1 --women 0 --scenarios flexion --frames 20 --known-worker");
+  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --known-worker");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| subject | sex | stature |"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("test set, spine placement measured, stature and mass given: 1 runs"), std::string::npos)

@@ -368,7 +368,9 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
 
   auto background = load_background(d.config, *plan);
   if (!background) return background.error();
-  auto estimator = std::make_shared<PostureEstimator>(d.rig, estimator_options(d.config));
+  auto estimator_config = load_estimator_options(d.config);
+  if (!estimator_config) return estimator_config.error();
+  auto estimator = std::make_shared<PostureEstimator>(d.rig, *estimator_config);
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();

@@ -1,5 +1,10 @@
 #include "spinewatch/daemon/estimator_options.hpp"
 
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
 namespace spinewatch {
 
 EstimatorOptions estimator_options(const Config& c) {
@@ -22,6 +27,38 @@ EstimatorOptions estimator_options(const Config& c) {
   o.height_mm = c.subject.height_mm;
   // The key's values are checked when the file is parsed.
   if (auto mode = parse_spine_placement_mode(c.subject.spine_placement)) o.spine_placement = *mode;
+  return o;
+}
+
+namespace {
+
+// A model file named by `key`, parsed by `parse` (which names the file).
+template <class Parse>
+auto load_model(const std::string& key, const std::string& path, Parse parse)
+    -> decltype(parse(std::string_view{}, std::string_view{})) {
+  std::ifstream in(path);
+  if (!in) return Error{fmt::format("{}: {}: cannot be read", key, path)};
+  std::stringstream text;
+  text << in.rdbuf();
+  auto parsed = parse(text.str(), path);
+  if (!parsed) return Error{fmt::format("{}: {}", key, parsed.error().message)};
+  return parsed;
+}
+
+}  // namespace
+
+Result<EstimatorOptions> load_estimator_options(const Config& c) {
+  EstimatorOptions o = estimator_options(c);
+  if (!c.cvsm.model.empty()) {
+    auto model = load_model("cvsm.model", c.cvsm.model, parse_cvsm_spec);
+    if (!model) return model.error();
+    o.cvsm_model = std::move(model).value();
+  }
+  if (!c.spine.model.empty()) {
+    auto model = load_model("spine.model", c.spine.model, parse_spine_spec);
+    if (!model) return model.error();
+    o.spine_model = std::move(model).value();
+  }
   return o;
 }
 

@@ -43,7 +43,7 @@ struct CvsmTracker::Impl {
   CameraRig rig;
   CvsmOptions opt;
   CvsmSpec spec;
-  const SpineSpec& spine = generic_spine_spec();
+  SpineSpec spine;
   std::unique_ptr<XorCost> cost;
   std::vector<Eigen::Vector3d> points;
 
@@ -58,7 +58,10 @@ struct CvsmTracker::Impl {
   bool have_previous = false;
 
   Impl(const CameraRig& r, CvsmOptions o)
-      : rig(r), opt(std::move(o)), spec(opt.model ? *opt.model : generic_cvsm_spec()) {}
+      : rig(r),
+        opt(std::move(o)),
+        spec(opt.model ? *opt.model : generic_cvsm_spec()),
+        spine(opt.spine ? *opt.spine : generic_spine_spec()) {}
 
   XorCounts evaluate(const BodyModel& m, const CvsmPose& p, std::int64_t limit) {
     const SpinePose v = pose_vertebrae(m, spine, p);

@@ -49,6 +49,8 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.min_silhouette_px = o.min_blob_px;
   c.spine_placement = o.spine_placement;
   c.stature_mm = o.worker.stature_mm;
+  c.model = o.cvsm_model;
+  c.spine = o.spine_model;
   return c;
 }
 
@@ -121,12 +123,13 @@ struct PostureEstimator::Impl {
     // where T1 and L5 sit when the accurate one is driven to them.
     // Its neutral spine is the subject model's (the span between T1 and L5
     // the measured placement gave), set where the generic one stands.
-    SubjectSpine spine = generic_subject(height);
+    const SpineSpec& spine_spec = options.spine_model ? *options.spine_model : generic_spine_spec();
+    SubjectSpine spine = subject_of_neutral(neutral_pose(spine_spec, height), height, spine_spec);
     if (subject) {
       SpinePose neutral = subject->neutral;
       const Eigen::Vector3d shift = spine[kWaistIndex].pose.body_center - neutral[kWaistIndex].body_center;
       for (auto& v : neutral) v.body_center += shift;
-      spine = subject_of_neutral(neutral, height);
+      spine = subject_of_neutral(neutral, height, spine_spec);
     }
     spine_model.emplace(SpineModel::from_subject(spine, model_options));
     DynamicsOptions dynamics_options;

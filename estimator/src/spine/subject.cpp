@@ -105,8 +105,7 @@ SubjectSpine generic_subject(double height_mm) {
   return subject_of_neutral(neutral_pose(generic_spine_spec(), height_mm), height_mm);
 }
 
-SubjectSpine subject_of_neutral(const SpinePose& neutral, double height_mm) {
-  const SpineSpec& spec = generic_spine_spec();
+SubjectSpine subject_of_neutral(const SpinePose& neutral, double height_mm, const SpineSpec& spec) {
   const double s = size_scale(spec, height_mm);
   SubjectSpine subject;
   for (std::size_t i = 0; i < kVertebraCount; ++i) {

@@ -10,6 +10,7 @@
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/anatomy/worker.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
 #include "spinewatch/frames/result.hpp"
@@ -45,6 +46,10 @@ struct EstimatorOptions {
   // CVSM (config [cvsm]).
   int subject_frames = 10;
   double lost_cost = 0.35;
+  // Models (config [cvsm] model, [spine] model): nothing = the generic
+  // ones built in. The caller reads and parses the files (no I/O here).
+  std::optional<CvsmSpec> cvsm_model;
+  std::optional<SpineSpec> spine_model;
   // Accurate model (config [spine]).
   int substeps = 16;
   double voxel_mm = 1.0;

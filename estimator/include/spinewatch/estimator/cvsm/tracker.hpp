@@ -28,6 +28,7 @@ struct CvsmOptions {
   std::optional<double> stature_mm;
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
+  std::optional<SpineSpec> spine;         // nothing: the generic spine built in
   // Where the spine sits in the measured body (config [subject] spine_placement).
   SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
   int min_silhouette_px = 600;   // fewer pixels in a view: no person

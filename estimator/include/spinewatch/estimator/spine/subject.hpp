@@ -28,8 +28,10 @@ std::string subject_to_json(const SubjectSpine& subject);
 // The generic spec's neutral spine for a subject of `height_mm`.
 SubjectSpine generic_subject(double height_mm);
 // A given neutral pose (the subject model's, its spine placed in the
-// measured body) with the generic vertebra sizes scaled to the height.
-SubjectSpine subject_of_neutral(const SpinePose& neutral, double height_mm);
+// measured body) with the spec's vertebra sizes (the generic ones unless
+// config [spine] model names a file) scaled to the height.
+SubjectSpine subject_of_neutral(const SpinePose& neutral, double height_mm,
+                                const SpineSpec& spec = generic_spine_spec());
 SpinePose neutral_of(const SubjectSpine& subject);
 
 }  // namespace spinewatch
