@@ -158,6 +158,8 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
     return std::nullopt;
   }
 
+  std::string too_long() const { return "sent a line longer than " + std::to_string(limits_.input_line_bytes) + " bytes"; }
+
   // Cuts the n new bytes into lines and answers each; a line too long to
   // be a command, or too much that was not one, ends the session.
   std::optional<std::string> take_lines(std::size_t n) {
@@ -166,14 +168,14 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
     for (std::size_t end; (end = partial_.find('\n', start)) != std::string::npos; start = end + 1) {
       std::string_view line(partial_.data() + start, end - start);
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      if (line.size() > limits_.input_line_bytes) return too_long();
       const InputReply reply = on_input_ ? on_input_(line, name_) : InputReply{};
       if (!reply.accepted) total_bytes_ += line.size() + 1;
       if (reply.line) deliver(std::make_shared<const std::string>(*reply.line + "\n"));
       if (closed_) return std::nullopt;
     }
     partial_.erase(0, start);
-    if (partial_.size() > limits_.input_line_bytes)
-      return "sent a line longer than " + std::to_string(limits_.input_line_bytes) + " bytes";
+    if (partial_.size() > limits_.input_line_bytes) return too_long();
     if (total_bytes_ > limits_.input_bytes_total)
       return "sent more than " + std::to_string(limits_.input_bytes_total) +
              " bytes that were not commands (clients need send nothing)";
