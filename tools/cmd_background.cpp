@@ -5,8 +5,10 @@
 // while they were taken (someone in view): a background with a person in
 // it would hide that person for as long as the station runs.
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -30,12 +32,50 @@ struct BackgroundOptions {
   std::optional<int> max_moved_px;
 };
 
+// The mean chroma of YUYV frames (the luma's median is the bootstrap's):
+// the scene was still, so the mean is its colour. Empty when a frame was grey.
+class ChromaMean {
+ public:
+  void add(const LumaView& frame) {
+    if (frame.step != 2 || frame.width % 2 != 0) {
+      grey_ = true;
+      return;
+    }
+    const std::size_t n = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
+    if (sum_.size() != n) sum_.assign(n, 0);
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x)
+        sum_[static_cast<std::size_t>(y * frame.width + x)] += frame.row(y)[2 * x + 1];
+    ++count_;
+  }
+  // YUYV bytes from `luma` and this mean; nothing when there is no colour.
+  std::optional<std::vector<std::uint8_t>> yuyv(const std::vector<std::uint8_t>& luma) const {
+    if (grey_ || count_ == 0 || sum_.size() != luma.size()) return std::nullopt;
+    std::vector<std::uint8_t> out(2 * luma.size());
+    for (std::size_t i = 0; i < luma.size(); ++i) {
+      out[2 * i] = luma[i];
+      out[2 * i + 1] = static_cast<std::uint8_t>((sum_[i] + count_ / 2) / count_);
+    }
+    return out;
+  }
+
+ private:
+  std::vector<std::uint32_t> sum_;
+  std::uint32_t count_ = 0;
+  bool grey_ = false;
+};
+
 // Both views' frames, collected into one sample window each.
 struct SceneCapture {
   BackgroundBootstrap views[2];
+  ChromaMean chroma[2];
   explicit SceneCapture(int frames, int threshold)
       : views{BackgroundBootstrap({.threshold = threshold, .sample_every = 1, .window_samples = frames}),
               BackgroundBootstrap({.threshold = threshold, .sample_every = 1, .window_samples = frames})} {}
+  void add(int view, const LumaView& frame) {
+    views[view].add(frame);
+    chroma[view].add(frame);
+  }
 };
 
 Status from_recording(const BackgroundOptions& o, SceneCapture& capture) {
@@ -50,7 +90,7 @@ Status from_recording(const BackgroundOptions& o, SceneCapture& capture) {
     for (int i = o.from; i < o.from + o.frames; ++i) {
       auto frame = reader->read(view, static_cast<std::size_t>(i));
       if (!frame) return frame.error();
-      capture.views[v].add(frame->luma());
+      capture.add(v, frame->luma());
     }
   }
   return Ok{};
@@ -70,7 +110,7 @@ Status from_cameras(const BackgroundOptions& o, const Config& config, SceneCaptu
     for (int i = 0; i < o.frames; ++i) {
       auto frame = camera.next(std::chrono::milliseconds(2000));
       if (!frame) return Error{fmt::format("{} ({}): no frame within 2 s", views[v].name, views[v].path)};
-      capture.views[v].add(frame->luma());
+      capture.add(v, frame->luma());
     }
     camera.stop();
   }
@@ -98,7 +138,7 @@ int run(const BackgroundOptions& o, ExitCode& exit_code) {
     return exit_code.value;
   }
   BackgroundImages images;
-  GreyImage* out[2] = {&images.frontal, &images.lateral};
+  SceneImage* out[2] = {&images.frontal, &images.lateral};
   const char* names[2] = {"frontal", "lateral"};
   for (int v = 0; v < 2; ++v) {
     const BackgroundBootstrap& b = capture.views[v];
@@ -111,8 +151,13 @@ int run(const BackgroundOptions& o, ExitCode& exit_code) {
           o.recording.empty() ? "" : ", or pick empty frames of the recording with --from/--frames")});
       return exit_code.value;
     }
-    *out[v] = GreyImage{b.width(), b.height(), b.median()};
-    spdlog::info("{}: median of {} frames, {} pixels moved", names[v], b.samples(), moved);
+    std::vector<std::uint8_t> luma = b.median();
+    if (auto colour = capture.chroma[v].yuyv(luma))
+      *out[v] = SceneImage{b.width(), b.height(), 2, std::move(*colour)};
+    else
+      *out[v] = SceneImage{b.width(), b.height(), 1, std::move(luma)};
+    spdlog::info("{}: median of {} frames, {} pixels moved{}", names[v], b.samples(), moved,
+                 out[v]->colour() ? ", with colour" : "");
   }
   if (auto s = write_background_images(o.out, images); !s) {
     exit_code.fail(s.error());

@@ -46,6 +46,10 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::Range(0.0, 0.6))
       ->capture_default_str();
   cmd->add_flag("--passer-by", opts->phantom.passer_by, "A second person walks behind the subject");
+  cmd->add_flag("--colour", opts->phantom.colour,
+                "Cameras in colour: YUYV with chroma (a warm wall, a blue shirt); else grey chroma");
+  cmd->add_flag("--camouflage", opts->phantom.camouflage,
+                "Clothing and skin as bright as the wall behind them (with --colour, only colour tells them apart)");
   cmd->add_option("--empty-frames", opts->phantom.empty_frames, "Empty-scene frames before the person appears")
       ->check(CLI::Range(0, 10000))
       ->capture_default_str();

@@ -1,6 +1,7 @@
 // CVSM speed: the whole per-pair silhouettes + fit on a tracked bend, and
 // the fixed-point cost evaluation against the OpenCV float reference on
 // the same candidates.
+#include <array>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -59,13 +60,20 @@ LumaView view(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<st
 // 0 → 50° → 0; background learnt from the empty frames, the subject model
 // from the first person frames, then the tracked bend played back and forth
 // (ping-pong, so the loop never jumps).
+// With colour, the frames as the cameras deliver them: YUYV.
 struct PhantomPairs {
   phantom::PhantomOptions options;
   std::vector<phantom::PhantomFrame> frames;
+  std::vector<std::array<std::vector<std::uint8_t>, 2>> yuyv;
+  LumaView view_of(std::size_t i, int v) const {
+    if (yuyv.empty()) return view(frames[i].luma[static_cast<std::size_t>(v)]);
+    return {yuyv[i][static_cast<std::size_t>(v)].data(), kW, kH, 2 * kW, 2};
+  }
 };
-std::optional<PhantomPairs> flexion_pairs(benchmark::State& state) {
+std::optional<PhantomPairs> flexion_pairs(benchmark::State& state, bool colour) {
   PhantomPairs p;
   p.options.scenario = "flexion";
+  p.options.colour = colour;
   auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
   if (!subject.ok()) {
     state.SkipWithError(subject.error().message.c_str());
@@ -78,24 +86,27 @@ std::optional<PhantomPairs> flexion_pairs(benchmark::State& state) {
     state.SkipWithError(seq.error().message.c_str());
     return std::nullopt;
   }
-  for (int i = 0; i < seq->frame_count(); ++i) p.frames.push_back(seq->render(i));
+  for (int i = 0; i < seq->frame_count(); ++i) {
+    p.frames.push_back(seq->render(i));
+    if (colour) p.yuyv.push_back({phantom::yuyv_bytes(p.frames.back(), 0), phantom::yuyv_bytes(p.frames.back(), 1)});
+  }
   return p;
 }
 
 // With `lifecycle`, what the estimator does around the fit since the
 // background lifecycle: the silhouettes gated by the last fit's outline,
 // the fitted outline rendered and grown, both backgrounds adapted.
-void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle) {
-  auto pairs = flexion_pairs(state);
+void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle, bool colour = false) {
+  auto pairs = flexion_pairs(state, colour);
   if (!pairs) return;
   const auto& frames = pairs->frames;
   SilhouetteExtractor extractors[2] = {SilhouetteExtractor{SilhouetteOptions{}}, SilhouetteExtractor{SilhouetteOptions{}}};
   CvsmTracker tracker(pairs->options.rig, CvsmOptions{});
   BitMask fitted[2], gates[2] = {BitMask(kW, kH), BitMask(kW, kH)};
   bool gated = false;
-  auto one_pair = [&](const phantom::PhantomFrame& f) {
+  auto one_pair = [&](std::size_t i) {
     SilhouetteResult s[2];
-    for (int v = 0; v < 2; ++v) s[v] = extractors[v].extract(view(f.luma[static_cast<std::size_t>(v)]), gated ? &gates[v] : nullptr);
+    for (int v = 0; v < 2; ++v) s[v] = extractors[v].extract(pairs->view_of(i, v), gated ? &gates[v] : nullptr);
     const CvsmResult r = tracker.track(s[0], s[1]);
     if (lifecycle) {
       gated = r.state == TrackingState::Tracking;
@@ -103,19 +114,19 @@ void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle) {
         fitted[v] = gated ? tracker.fitted_mask(v) : BitMask{};
         gated = gated && !fitted[v].empty();
         if (gated) dilate_square(fitted[v], 16, gates[v]);
-        extractors[v].adapt(view(f.luma[static_cast<std::size_t>(v)]), gated ? &fitted[v] : nullptr);
+        extractors[v].adapt(pairs->view_of(i, v), gated ? &fitted[v] : nullptr);
       }
     }
     return r;
   };
   const int first_tracked = pairs->options.empty_frames + CvsmOptions{}.subject_frames;
-  for (int i = 0; i < first_tracked; ++i) one_pair(frames[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < first_tracked; ++i) one_pair(static_cast<std::size_t>(i));
   const int n = static_cast<int>(frames.size()) - first_tracked;
   int k = 0, lost = 0;
   std::int64_t candidates = 0, count = 0;
   for (auto _ : state) {
     const int phase = k++ % (2 * n - 2);
-    const CvsmResult r = one_pair(frames[static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase))]);
+    const CvsmResult r = one_pair(static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase)));
     lost += r.state == TrackingState::Lost;
     candidates += r.fit.candidates.value_or(0);
     ++count;
@@ -134,6 +145,9 @@ double median_of(const std::vector<double>& v) {
 void BM_PairSilhouettesAndFit(benchmark::State& state) { pair_silhouettes_and_fit(state, false); }
 void BM_PairWithBackgroundLifecycle(benchmark::State& state) { pair_silhouettes_and_fit(state, true); }
 BENCHMARK(BM_PairWithBackgroundLifecycle)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+// The same with the cameras in colour (YUYV chroma, the colour threshold).
+void BM_PairColourWithBackgroundLifecycle(benchmark::State& state) { pair_silhouettes_and_fit(state, true, true); }
+BENCHMARK(BM_PairColourWithBackgroundLifecycle)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 
 BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
@@ -193,6 +207,42 @@ void BM_ThresholdFrame(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ThresholdFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The colour test of a whole YUYV frame (a beige wall, a blue block, a
+// shadow beside it): SSE2 against its scalar reference (arg 0 / 1).
+void BM_ThresholdColourFrame(benchmark::State& state) {
+  const cv::Mat bg = background();
+  const cv::Mat f = block_person_frame(bg, 4);
+  std::vector<std::uint8_t> frame(static_cast<std::size_t>(2 * kW * kH)), chroma(static_cast<std::size_t>(kW * kH));
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const auto i = static_cast<std::size_t>(y * kW + x);
+      const bool person = x >= 130 && x < 190 && y >= 30;
+      const bool shadow = !person && x >= 190 && x < 220 && y >= 60;
+      chroma[i] = static_cast<std::uint8_t>(x % 2 ? 142 : 118);
+      frame[2 * i] = shadow ? static_cast<std::uint8_t>(f.at<std::uint8_t>(y, x) * 2 / 3) : f.at<std::uint8_t>(y, x);
+      frame[2 * i + 1] = person ? static_cast<std::uint8_t>(x % 2 ? 112 : 150) : shadow ? static_cast<std::uint8_t>(x % 2 ? 137 : 121) : chroma[i];
+    }
+  BitMask out(kW, kH);
+  silhouette_detail::ThresholdRow row;
+  row.gain_q7 = silhouette_detail::gain_to_q7(1.02);
+  row.width = kW;
+  row.frame_step = 2;
+  const bool fast = state.range(0) == 1;
+  for (auto _ : state) {
+    for (int y = 0; y < kH; ++y) {
+      row.frame = frame.data() + static_cast<std::ptrdiff_t>(y) * 2 * kW;
+      row.background = bg.ptr<std::uint8_t>(y);
+      row.chroma_background = chroma.data() + static_cast<std::ptrdiff_t>(y) * kW;
+      if (fast)
+        silhouette_detail::threshold_row(row, out.row(y));
+      else
+        silhouette_detail::threshold_row_reference(row, out.row(y));
+    }
+    benchmark::DoNotOptimize(out.row(0)[0]);
+  }
+}
+BENCHMARK(BM_ThresholdColourFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 struct Candidates {
   CameraRig rig = CameraRig::default_rig();

@@ -21,15 +21,20 @@ struct SceneCondition {
   double light_drift = 0;
   bool passer_by = false;
   bool shadow = false;
+  bool colour = false;      // YUYV with chroma, the stored background in colour
+  bool camouflage = false;  // clothing as bright as the wall
 };
 
-inline constexpr std::array<SceneCondition, 6> kSceneConditions = {{
+inline constexpr std::array<SceneCondition, 9> kSceneConditions = {{
     {"clean", true, 0, 0, false, false},
     {"learnt", false, 10, 0, false, false},      // empty frames first, background learnt from them
     {"bootstrap", false, 0, 0, false, false},    // subject in view, no background at all
     {"light_drift", true, 0, 0.35, false, false},
     {"passer_by", true, 0, 0, true, false},
-    {"shadow", true, 0, 0, false, true},
+    {"shadow", true, 0, 0, false, true},         // grey: a shadow cannot be told from clothing
+    {"colour", true, 0, 0, false, false, true},  // the colour reference
+    {"colour_shadow", true, 0, 0, false, true, true},
+    {"camouflage", true, 0, 0, false, false, true, true},
 }};
 
 inline std::span<const SceneCondition> scene_conditions() { return kSceneConditions; }
@@ -56,6 +61,8 @@ inline Result<phantom::PhantomSequence> scene_sequence(const std::string& scenar
   po.light_drift = c.light_drift;
   po.passer_by = c.passer_by;
   po.shadow = c.shadow;
+  po.colour = c.colour;
+  po.camouflage = c.camouflage;
   return phantom::PhantomSequence::create(po);
 }
 

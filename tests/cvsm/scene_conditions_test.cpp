@@ -54,6 +54,18 @@ TEST_P(SceneConditions, TrackingIsTrustworthyInEveryCondition) {
   EXPECT_LE(test::mean(passer.neck), test::mean(clean.neck) + 2.0);
   EXPECT_LE(test::mean(passer.waist), test::mean(clean.waist) + 2.0);
 
+  // Colour: a cast shadow keeps the wall's chroma and is not taken for the
+  // person; clothing as bright as the wall is found by its colour.
+  const auto& colour = runs.at("colour");
+  EXPECT_EQ(colour.lost, 0);
+  for (const char* name : {"colour_shadow", "camouflage"}) {
+    SCOPED_TRACE(name);
+    const auto& st = runs.at(name);
+    EXPECT_EQ(st.lost, 0);
+    EXPECT_LE(test::mean(st.neck), test::mean(colour.neck) + 2.0);
+    EXPECT_LE(test::mean(st.waist), test::mean(colour.waist) + 2.0);
+  }
+
   // No background at all: init / no_background first, then tracking within 3 s.
   const auto& boot = runs.at("bootstrap");
   EXPECT_GT(boot.no_background, 0);

@@ -21,7 +21,8 @@ namespace {
 
 using namespace test::synthetic;
 
-// One frame of the scene, both views alike.
+// One frame of the scene, both views alike: grey (CV_8U) or YUYV (CV_8UC2:
+// Y, then U or V, per pixel, which is YUYV's memory layout).
 using Scene = std::function<cv::Mat(int frame, std::mt19937& rng)>;
 
 // What the estimator did, frame by frame, that a key could change.
@@ -46,7 +47,7 @@ Observed run(const std::string& silhouette_toml, const Scene& scene, int frames)
   for (int i = 0; i < frames; ++i) {
     const cv::Mat image = scene(i, rng);
     std::vector<std::uint8_t> bytes(image.datastart, image.dataend);
-    const FrameFormat format = FrameFormat::packed(PixelFormat::GREY, kW, kH);
+    const FrameFormat format = FrameFormat::packed(image.type() == CV_8UC2 ? PixelFormat::YUYV : PixelFormat::GREY, kW, kH);
     FramePair pair{static_cast<std::uint64_t>(i), i * 33'333'333LL, Frame::copy_of(format, {}, bytes),
                    Frame::copy_of(format, {}, bytes)};
     const Posture p = estimator.process(pair);
@@ -85,6 +86,26 @@ cv::Mat leaves(int i, std::mt19937& rng) {
   return compose(lamp, kNobody, 1.0, 2.0, rng);
 }
 
+cv::Mat yuyv_mat(const YuyvImage& image) { return cv::Mat(kH, kW, CV_8UC2, const_cast<std::uint8_t*>(image.bytes.data())).clone(); }
+
+// Colour: empty for 20 frames, then a person in a blue shirt as bright as
+// the beige wall walks in (only the chroma shows them).
+cv::Mat camouflaged(int i, std::mt19937& rng) {
+  ColourScene scene;
+  scene.person_luma = -1;
+  const cv::Mat person = i < 20 ? kNobody : person_mask(static_cast<int>(10 * std::sin(i * 0.2)));
+  return yuyv_mat(compose_colour(kWall, person, cv::Mat(), scene, rng));
+}
+
+// Colour: empty for 20 frames, then a person with their shadow beside them.
+cv::Mat with_shadow(int i, std::mt19937& rng) {
+  const cv::Mat person = i < 20 ? kNobody : person_mask(static_cast<int>(10 * std::sin(i * 0.2)));
+  cv::Mat shadow;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 30, 0, 1, 10);
+  cv::warpAffine(person, shadow, shift, person.size());
+  return yuyv_mat(compose_colour(kWall, person, shadow, ColourScene{}, rng));
+}
+
 struct KeyCase {
   const char* toml;
   Scene scene;
@@ -109,6 +130,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(KeyCase{"background = \"threshold\"", walk_in, 60, ""},
                       KeyCase{"learn_frames = 15", walk_in, 60, ""},
                       KeyCase{"threshold = 120", walk_in, 60, ""},
+                      KeyCase{"chroma_threshold = 0", camouflaged, 40, ""},
+                      KeyCase{"shadow_ratio = 1.0", with_shadow, 40, ""},
                       KeyCase{"min_blob_px = 20000", walk_in, 60, ""},
                       KeyCase{"adapt_s = 0", walk_in, 60, ""},
                       KeyCase{"adapt_margin_px = 0", walk_in, 60, ""},

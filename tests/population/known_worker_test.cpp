@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "spinewatch/anthropometry/ansur.hpp"
@@ -96,6 +97,51 @@ TEST(KnownWorker, UnknownStatureIsMeasuredStandingEstimatedSeatedAndTheMassFromI
     EXPECT_EQ(p.worker->mass_source, BodyValueSource::Estimated);
     EXPECT_DOUBLE_EQ(p.worker->mass_kg, estimated_mass_kg(p.worker->stature_mm));
   }
+}
+
+// Standing, a given stature the top of the head rises more than
+// kStatureMismatchMm above is someone else's: set aside and said so, and
+// the spine placed for the body the cameras see. One within it (shoes,
+// hair) is used, and so is a taller one (the body may be bending).
+TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
+  const auto& row = subject(kMan);
+  const auto seq = sequence(row, "flexion", 30);
+  auto run_with = [&](std::optional<double> stature) {
+    EstimatorOptions o;
+    o.worker.stature_mm = stature;
+    PostureEstimator estimator(seq.options().rig, o);
+    return run(seq, estimator);
+  };
+  auto mean_error = [&](const std::vector<Posture>& ps) {
+    double sum = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      if (ps[i].state != TrackingState::Tracking) continue;
+      const Posture truth = seq.ground_truth(static_cast<int>(i));
+      sum += (*ps[i].neck - *truth.neck).norm() + (*ps[i].waist - *truth.waist).norm();
+      n += 2;
+    }
+    return n > 0 ? sum / n : 1e9;
+  };
+  const auto unknown = run_with(std::nullopt);
+  const auto wrong = run_with(row.stature_mm - 250);
+  const auto shod = run_with(row.stature_mm - 40);
+  const auto taller = run_with(row.stature_mm + 250);
+  const Posture& w = last_tracking(wrong);
+  ASSERT_TRUE(w.worker);
+  EXPECT_EQ(w.worker->stature_source, BodyValueSource::Measured);
+  ASSERT_TRUE(w.worker->rejected_stature_mm);
+  EXPECT_EQ(*w.worker->rejected_stature_mm, row.stature_mm - 250);
+  EXPECT_NEAR(w.worker->stature_mm, row.stature_mm, 15.0);
+  // Placed for the body in view: no worse than with nothing given (the
+  // posture choice started from the given height, so not identical).
+  EXPECT_LE(mean_error(wrong), mean_error(unknown) + 2.0);
+  const Posture& s = last_tracking(shod);
+  EXPECT_EQ(s.worker->stature_source, BodyValueSource::Given);
+  EXPECT_FALSE(s.worker->rejected_stature_mm);
+  const Posture& t = last_tracking(taller);
+  EXPECT_EQ(t.worker->stature_source, BodyValueSource::Given);
+  EXPECT_FALSE(t.worker->rejected_stature_mm);
 }
 
 // The loads follow the mass: the same worker given heavier loads L5 more,

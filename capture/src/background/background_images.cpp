@@ -4,22 +4,64 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace spinewatch {
 namespace {
 
-Result<GreyImage> read_grey(const std::filesystem::path& path, int width, int height) {
+// A colour image as YUYV: Y of each pixel, Cb and Cr averaged over each pair.
+std::vector<std::uint8_t> yuyv_of(const cv::Mat& bgr) {
+  cv::Mat ycrcb;
+  cv::cvtColor(bgr, ycrcb, cv::COLOR_BGR2YCrCb);
+  std::vector<std::uint8_t> out(ycrcb.total() * 2);
+  std::size_t k = 0;
+  for (int y = 0; y < ycrcb.rows; ++y) {
+    const cv::Vec3b* row = ycrcb.ptr<cv::Vec3b>(y);
+    for (int x = 0; x + 1 < ycrcb.cols; x += 2, k += 4) {
+      out[k] = row[x][0];
+      out[k + 1] = static_cast<std::uint8_t>((row[x][2] + row[x + 1][2] + 1) / 2);  // U = Cb
+      out[k + 2] = row[x + 1][0];
+      out[k + 3] = static_cast<std::uint8_t>((row[x][1] + row[x + 1][1] + 1) / 2);  // V = Cr
+    }
+  }
+  return out;
+}
+
+cv::Mat bgr_of(const SceneImage& image) {
+  cv::Mat ycrcb(image.height, image.width, CV_8UC3);
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* in = image.pixels.data() + static_cast<std::ptrdiff_t>(y) * image.width * 2;
+    cv::Vec3b* row = ycrcb.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* pair = in + 4 * (x / 2);
+      row[x] = {in[2 * x], pair[3], pair[1]};  // Y, Cr = V, Cb = U
+    }
+  }
+  cv::Mat bgr;
+  cv::cvtColor(ycrcb, bgr, cv::COLOR_YCrCb2BGR);
+  return bgr;
+}
+
+Result<SceneImage> read_scene(const std::filesystem::path& path, int width, int height) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{fmt::format("{}: no such file", path.string())};
-  // IMREAD_GRAYSCALE turns colour into its luma (BT.601), which is what
-  // the Y of a YUYV frame holds.
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  if (image.empty() || image.type() != CV_8U)
-    return Error{fmt::format("{}: cannot be read as an 8-bit image", path.string())};
+  cv::Mat image;
+  try {
+    image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    return Error{fmt::format("{}: {}", path.string(), e.what())};
+  }
+  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3 && image.channels() != 4))
+    return Error{fmt::format("{}: cannot be read as an 8-bit grey or colour image", path.string())};
   if (width > 0 && (image.cols != width || image.rows != height))
     return Error{fmt::format("{}: {}x{} does not match the cameras' {}x{}", path.string(), image.cols, image.rows,
                              width, height)};
-  GreyImage out{image.cols, image.rows, {}};
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  if (image.channels() == 3 && image.cols % 2 == 0) return SceneImage{image.cols, image.rows, 2, yuyv_of(image)};
+  // Grey, or colour of an odd width (no pixel pairs): its luma (BT.601,
+  // which is what the Y of a YUYV frame holds).
+  if (image.channels() == 3) cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
+  SceneImage out{image.cols, image.rows, 1, {}};
   out.pixels.reserve(image.total());
   for (int y = 0; y < image.rows; ++y) out.pixels.insert(out.pixels.end(), image.ptr(y), image.ptr(y) + image.cols);
   return out;
@@ -35,9 +77,9 @@ bool has_background_images(const std::filesystem::path& dir) {
 Result<BackgroundImages> load_background_images(const std::filesystem::path& frontal,
                                                 const std::filesystem::path& lateral, int expected_width,
                                                 int expected_height) {
-  auto f = read_grey(frontal, expected_width, expected_height);
+  auto f = read_scene(frontal, expected_width, expected_height);
   if (!f) return f.error();
-  auto l = read_grey(lateral, f->width, f->height);
+  auto l = read_scene(lateral, f->width, f->height);
   if (!l) return l.error();
   return BackgroundImages{std::move(f).value(), std::move(l).value()};
 }
@@ -51,13 +93,14 @@ Status write_background_images(const std::filesystem::path& dir, const Backgroun
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Error{fmt::format("{}: {}", dir.string(), ec.message())};
-  const GreyImage* views[2] = {&images.frontal, &images.lateral};
+  const SceneImage* views[2] = {&images.frontal, &images.lateral};
   for (std::size_t v = 0; v < 2; ++v) {
-    const GreyImage& g = *views[v];
+    const SceneImage& g = *views[v];
     const auto path = dir / kBackgroundFiles[v];
-    if (g.width <= 0 || g.height <= 0 || g.pixels.size() != std::size_t(g.width) * std::size_t(g.height))
+    if (g.width <= 0 || g.height <= 0 || (g.step != 1 && g.step != 2) || (g.colour() && g.width % 2 != 0) ||
+        g.pixels.size() != std::size_t(g.width) * std::size_t(g.height) * std::size_t(g.step))
       return Error{fmt::format("{}: empty image", path.string())};
-    const cv::Mat image(g.height, g.width, CV_8U, const_cast<std::uint8_t*>(g.pixels.data()));
+    const cv::Mat image = g.colour() ? bgr_of(g) : cv::Mat(g.height, g.width, CV_8U, const_cast<std::uint8_t*>(g.pixels.data()));
     bool written = false;
     try {
       written = cv::imwrite(path.string(), image);

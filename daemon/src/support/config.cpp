@@ -111,6 +111,8 @@ const std::vector<Key>& keys() {
                  {"learn", "image", "threshold"}),
       int_key("silhouette.learn_frames", [](Config& c) -> int& { return c.silhouette.learn_frames; }, {1, 1000}),
       int_key("silhouette.threshold", [](Config& c) -> int& { return c.silhouette.threshold; }, {1, 254}),
+      int_key("silhouette.chroma_threshold", [](Config& c) -> int& { return c.silhouette.chroma_threshold; }, {0, 255}),
+      double_key("silhouette.shadow_ratio", [](Config& c) -> double& { return c.silhouette.shadow_ratio; }, {0.0, 1.0}),
       int_key("silhouette.min_blob_px", [](Config& c) -> int& { return c.silhouette.min_blob_px; }, {1, 1000000}),
       string_key("silhouette.background_frontal", [](Config& c) -> std::string& { return c.silhouette.background_frontal; }),
       string_key("silhouette.background_lateral", [](Config& c) -> std::string& { return c.silhouette.background_lateral; }),

@@ -13,6 +13,8 @@ EstimatorOptions estimator_options(const Config& c) {
   o.learn_frames = c.silhouette.learn_frames;
   o.threshold = c.silhouette.threshold;
   o.min_blob_px = c.silhouette.min_blob_px;
+  o.chroma_threshold = c.silhouette.chroma_threshold;
+  o.shadow_ratio = c.silhouette.shadow_ratio;
   o.adapt_s = c.silhouette.adapt_s;
   o.adapt_margin_px = c.silhouette.adapt_margin_px;
   o.relearn_empty_s = c.silhouette.relearn_empty_s;

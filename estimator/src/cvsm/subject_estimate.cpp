@@ -250,6 +250,18 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   return n + 9;
 }
 
+bool check_given_stature(SubjectEstimate& s) {
+  if (!s.given_stature_mm || s.shape.posture != SubjectPosture::Standing || s.measured_crown_mm <= 0) return false;
+  // Only a body taller than the given stature contradicts it: one bending,
+  // leaning or crouching looks shorter than it is, and the given stature
+  // is then what keeps its model right.
+  if (s.measured_crown_mm - *s.given_stature_mm <= kStatureMismatchMm) return false;
+  s.rejected_stature_mm = s.given_stature_mm;
+  s.given_stature_mm.reset();
+  s.shape.height_mm = std::clamp(s.measured_crown_mm / kCrown, 1300.0, 2200.0);
+  return true;
+}
+
 int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
   std::vector<Eigen::Vector3d> points;
   SubjectEstimate trial = s;

@@ -22,6 +22,9 @@ struct SubjectEstimate {
   // Given for this worker: the stature, standing or seated, and (with the
   // generic placement) the model's height, neither then searched.
   std::optional<double> given_stature_mm;
+  // A given stature the standing silhouettes contradicted (see
+  // check_given_stature): set aside, and the stature measured instead.
+  std::optional<double> rejected_stature_mm;
   CvsmPose pose;
 };
 
@@ -34,6 +37,13 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
 // better. Returns the cost evaluations spent.
 int choose_posture(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    const CvsmOptions& options);
+// Standing, with the top of the head in view, a given stature more than
+// kStatureMismatchMm (anatomy/worker.hpp) below it is someone else's: it
+// is set aside (rejected_stature_mm) and the height measured and searched
+// as when nothing is given. True when it was. A body that looks shorter
+// than the given stature may be bending: that one stands, as it does
+// seated, where the crown does not measure the stature.
+bool check_given_stature(SubjectEstimate& subject);
 // One round of the shape fit on the current silhouettes; returns evaluations.
 int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    int budget = 160);

@@ -202,6 +202,7 @@ struct CvsmTracker::Impl {
         subject = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
         subject->measured_spine = opt.spine_placement == SpinePlacementMode::Measured;
         candidates += cvsm_detail::choose_posture(*subject, *cost, spec, spine, opt);
+        cvsm_detail::check_given_stature(*subject);
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
@@ -280,6 +281,10 @@ BitMask CvsmTracker::fitted_mask(int view) {
 }
 
 const BodyModel* CvsmTracker::subject_model() const { return impl_->have_model ? &impl_->model : nullptr; }
+
+std::optional<double> CvsmTracker::rejected_stature_mm() const {
+  return impl_->subject ? impl_->subject->rejected_stature_mm : std::nullopt;
+}
 
 void CvsmTracker::reset() {
   CameraRig rig = impl_->rig;

@@ -30,6 +30,8 @@ SilhouetteOptions silhouette_options(const EstimatorOptions& o) {
   s.learn_frames = o.learn_frames;
   s.threshold = o.threshold;
   s.min_blob_px = o.min_blob_px;
+  s.chroma_threshold = o.chroma_threshold;
+  s.shadow_ratio = o.shadow_ratio;
   const double fps = std::max(1.0, o.fps);
   s.adaptation.adapt_frames = o.adapt_s * fps;
   s.adaptation.margin_px = o.adapt_margin_px;
@@ -77,7 +79,8 @@ struct PostureEstimator::Impl {
     const BodyModel* subject = tracker.subject_model();
     if (!given.stature_mm && !subject) return std::nullopt;
     WorkerBody b;
-    if (given.stature_mm) {
+    b.rejected_stature_mm = tracker.rejected_stature_mm();
+    if (given.stature_mm && !(b.rejected_stature_mm && subject)) {
       b.stature_mm = *given.stature_mm;
       b.stature_source = BodyValueSource::Given;
     } else if (subject->shape.stature_mm > 0 && subject->shape.posture == SubjectPosture::Standing) {
@@ -138,9 +141,15 @@ struct PostureEstimator::Impl {
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
     if (const auto body = worker_body()) load_params.body_mass_kg = body->mass_kg;
-    if (const auto body = worker_body())
+    if (const auto body = worker_body()) {
       spdlog::info("estimator: subject model built (stature {:.0f} mm {}, mass {:.1f} kg {})", body->stature_mm,
                    to_string(body->stature_source), body->mass_kg, to_string(body->mass_source));
+      if (body->rejected_stature_mm)
+        spdlog::warn(
+            "estimator: the given stature {:.0f} mm is {:.0f} mm below the {:.0f} mm the cameras measure standing: not "
+            "used (is the right worker set? [subject] stature_mm or the set_worker command)",
+            *body->rejected_stature_mm, std::abs(*body->rejected_stature_mm - body->stature_mm), body->stature_mm);
+    }
     if (subject)
       spdlog::debug("estimator: subject model: outline height {:.0f} mm, stature {:.0f} mm, neutral T1 {:.0f} mm, L5 {:.0f} mm",
                     subject->shape.height_mm, subject->shape.stature_mm, subject->neutral[kNeckIndex].body_center.y(),

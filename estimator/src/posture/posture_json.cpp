@@ -126,6 +126,7 @@ ojson to_json(const Posture& p) {
                    {"stature", to_string(w.stature_source)},
                    {"mass_kg", round_to(w.mass_kg, 0.1)},
                    {"mass", to_string(w.mass_source)}};
+    if (w.rejected_stature_mm) j["worker"]["rejected_stature_mm"] = round_to(*w.rejected_stature_mm, 0.1);
   }
   return j;
 }

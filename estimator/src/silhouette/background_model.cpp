@@ -62,6 +62,56 @@ std::string_view to_string(BackgroundSource source) {
 
 BackgroundModel::BackgroundModel(BackgroundAdaptation options) : options_(options) {}
 
+void BackgroundModel::Plane::set_from(const LumaView& image, int offset) {
+  const std::size_t n = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
+  bytes.resize(n);
+  average.resize(n);
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* in = image.row(y) + offset;
+    for (int x = 0; x < image.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y * image.width + x);
+      bytes[i] = in[x * image.step];
+      average[i] = static_cast<std::uint16_t>(bytes[i] << 8);
+    }
+  }
+}
+
+void BackgroundModel::Plane::accumulate(const LumaView& frame, int offset) {
+  const std::size_t n = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
+  if (learn_sum.size() != n) learn_sum.assign(n, 0);
+  for (int y = 0; y < frame.height; ++y) {
+    const std::uint8_t* row = frame.row(y) + offset;
+    std::uint32_t* sum = learn_sum.data() + static_cast<std::ptrdiff_t>(y) * frame.width;
+    for (int x = 0; x < frame.width; ++x) sum[x] += row[x * frame.step];
+  }
+}
+
+void BackgroundModel::Plane::finish_learning(std::uint32_t count) {
+  const std::size_t n = learn_sum.size();
+  bytes.resize(n);
+  average.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // The Q8 mean keeps the fraction the byte rounds away.
+    const std::uint32_t q8 = (learn_sum[i] * 256 + count / 2) / count;
+    average[i] = static_cast<std::uint16_t>(std::min<std::uint32_t>(q8, 0xFFFF));
+    bytes[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>((q8 + 128) >> 8, 255));
+  }
+}
+
+// A camera that sends YUYV but no colour (a monochrome sensor, our own
+// grey phantom recordings) has chroma 128 everywhere: the colour test
+// would cost a frame's worth of work and decide nothing.
+bool BackgroundModel::Plane::has_colour() const {
+  return std::any_of(bytes.begin(), bytes.end(), [](std::uint8_t c) { return c < 127 || c > 129; });
+}
+
+void BackgroundModel::Plane::clear() {
+  bytes.clear();
+  average.clear();
+  learn_sum.clear();
+  learn_sum.shrink_to_fit();
+}
+
 Status BackgroundModel::set(const LumaView& image, BackgroundSource source) {
   if (image.data == nullptr || image.width <= 0 || image.height <= 0) return Error{"empty image"};
   if (width_ != 0 && (image.width != width_ || image.height != height_))
@@ -69,15 +119,10 @@ Status BackgroundModel::set(const LumaView& image, BackgroundSource source) {
                  std::to_string(width_) + "x" + std::to_string(height_)};
   width_ = image.width;
   height_ = image.height;
-  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  pixels_.resize(n);
-  average_.resize(n);
-  for (int y = 0; y < height_; ++y)
-    for (int x = 0; x < width_; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y * width_ + x);
-      pixels_[i] = image.at(x, y);
-      average_[i] = static_cast<std::uint16_t>(pixels_[i] << 8);
-    }
+  luma_.set_from(image, 0);
+  if (image.step == 2)
+    chroma_.set_from(image, 1);  // YUYV: chroma in the odd bytes
+  if (image.step != 2 || !chroma_.has_colour()) chroma_.clear();
   source_ = source;
   if (source == BackgroundSource::Bootstrapped) ++counters_.bootstraps;
   abandon_learning();
@@ -90,23 +135,15 @@ bool BackgroundModel::learn(const LumaView& frame) {
     height_ = frame.height;
   }
   if (frame.width != width_ || frame.height != height_) return false;
-  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  if (learn_sum_.size() != n) learn_sum_.assign(n, 0);
-  for (int y = 0; y < height_; ++y) {
-    const std::uint8_t* row = frame.row(y);
-    std::uint32_t* sum = learn_sum_.data() + static_cast<std::ptrdiff_t>(y) * width_;
-    for (int x = 0; x < width_; ++x) sum[x] += row[x * frame.step];
-  }
+  if (learned_ == 0) learning_chroma_ = frame.step == 2;
+  learning_chroma_ = learning_chroma_ && frame.step == 2;
+  luma_.accumulate(frame, 0);
+  if (learning_chroma_) chroma_.accumulate(frame, 1);
   if (++learned_ < std::max(1, options_.learn_frames)) return false;
-  pixels_.resize(n);
-  average_.resize(n);
   const std::uint32_t count = static_cast<std::uint32_t>(learned_);
-  for (std::size_t i = 0; i < n; ++i) {
-    // The Q8 mean keeps the fraction the byte rounds away.
-    const std::uint32_t q8 = (learn_sum_[i] * 256 + count / 2) / count;
-    average_[i] = static_cast<std::uint16_t>(std::min<std::uint32_t>(q8, 0xFFFF));
-    pixels_[i] = static_cast<std::uint8_t>(std::min<std::uint32_t>((q8 + 128) >> 8, 255));
-  }
+  luma_.finish_learning(count);
+  if (learning_chroma_) chroma_.finish_learning(count);
+  if (!learning_chroma_ || !chroma_.has_colour()) chroma_.clear();
   if (source_ != BackgroundSource::None) ++counters_.relearns;
   source_ = BackgroundSource::Learnt;
   abandon_learning();
@@ -114,15 +151,17 @@ bool BackgroundModel::learn(const LumaView& frame) {
 }
 
 void BackgroundModel::abandon_learning() {
-  learn_sum_.clear();
-  learn_sum_.shrink_to_fit();
+  for (Plane* p : {&luma_, &chroma_}) {
+    p->learn_sum.clear();
+    p->learn_sum.shrink_to_fit();
+  }
   learned_ = 0;
 }
 
 void BackgroundModel::clear() {
   source_ = BackgroundSource::None;
-  pixels_.clear();
-  average_.clear();
+  luma_.clear();
+  chroma_.clear();
   abandon_learning();
   empty_frames_ = 0;
 }
@@ -148,57 +187,69 @@ void BackgroundModel::adapt_rows(const LumaView& frame, const BitMask& foregroun
   const int slow = rate_q12(options_.adapt_frames * std::max(1.0, options_.foreground_slowdown));
   const bool has_person = !person.empty() && person.width() == width_ && person.height() == height_;
   const bool has_foreground = !foreground.empty() && foreground.width() == width_ && foreground.height() == height_;
+  const bool colour = has_chroma() && frame.step == 2;
   const int words = (width_ + 63) / 64;
   near_row_.resize(2 * static_cast<std::size_t>(words));
   const int phase = static_cast<int>(frame_counter_++ % kRowPhases);
   for (int y = phase; y < height_; y += kRowPhases) {
-    const std::uint8_t* in = frame.row(y);
-    std::uint16_t* average = average_.data() + static_cast<std::ptrdiff_t>(y) * width_;
-    std::uint8_t* out = pixels_.data() + static_cast<std::ptrdiff_t>(y) * width_;
     const std::uint64_t* near = nullptr;
     if (has_person) {
       near_of(person, y, options_.margin_px, near_row_.data(), near_row_.data() + words);
       near = near_row_.data();
     }
     const std::uint64_t* fg = has_foreground ? foreground.row(y) : nullptr;
-    for (int x0 = 0; x0 < width_; x0 += 64) {
-      const int x1 = std::min(width_, x0 + 64);
-      const std::uint64_t near_bits = near != nullptr ? near[x0 >> 6] : 0;
-      const std::uint64_t fg_bits = fg != nullptr ? fg[x0 >> 6] : 0;
-      if ((near_bits | fg_bits) == 0) {
-        // Most of a frame is plain scene: one rate, no masks, a loop the
-        // compiler vectorises.
-        for (int x = x0; x < x1; ++x) {
-          const int a = average[x];
-          const int next = a + (((in[x * frame.step] << 8) - a) * fast + 2048) / 4096;
-          average[x] = static_cast<std::uint16_t>(next);
-          out[x] = static_cast<std::uint8_t>((next + 128) >> 8);
-        }
-        continue;
-      }
+    adapt_plane(luma_, frame, 0, 0, y, near, fg, gain_q12, fast, slow);
+    // Chroma byte x belongs to pixel x's pair: pixel x's masks stand for it.
+    if (colour) adapt_plane(chroma_, frame, 1, 128, y, near, fg, gain_q12, fast, slow);
+  }
+}
+
+void BackgroundModel::adapt_plane(Plane& plane, const LumaView& frame, int offset, int neutral, int y,
+                                  const std::uint64_t* near, const std::uint64_t* fg, int gain_q12, int fast,
+                                  int slow) {
+  const std::uint8_t* in = frame.row(y) + offset;
+  const int step = frame.step;
+  std::uint16_t* average = plane.average.data() + static_cast<std::ptrdiff_t>(y) * width_;
+  std::uint8_t* out = plane.bytes.data() + static_cast<std::ptrdiff_t>(y) * width_;
+  const int neutral_q8 = neutral << 8;
+  for (int x0 = 0; x0 < width_; x0 += 64) {
+    const int x1 = std::min(width_, x0 + 64);
+    const std::uint64_t near_bits = near != nullptr ? near[x0 >> 6] : 0;
+    const std::uint64_t fg_bits = fg != nullptr ? fg[x0 >> 6] : 0;
+    if ((near_bits | fg_bits) == 0) {
+      // Most of a frame is plain scene: one rate, no masks, a loop the
+      // compiler vectorises.
       for (int x = x0; x < x1; ++x) {
-        const std::uint64_t bit = std::uint64_t{1} << (x & 63);
         const int a = average[x];
-        int target = 0, rate = fast;
-        if ((near_bits & bit) != 0) {
-          // Under the person and the margin around them the scene is not
-          // seen, but the light on it changes as on the rest of the scene:
-          // these pixels follow the scene's overall change (the exposure
-          // gain), so that what the subject uncovers after an hour under a
-          // window is not stale.
-          target = (a * gain_q12 + 2048) >> 12;
-        } else {
-          // Foreground that is not the person adapts slowly: a passer-by is
-          // not learnt, an object left there is, in a minute or two.
-          if ((fg_bits & bit) != 0) rate = slow;
-          target = in[x * frame.step] << 8;
-        }
-        // Rounded, not floored: a floor would pull a steady pixel down by
-        // up to half a grey level at the slow rate.
-        const int next = std::clamp(a + ((target - a) * rate + 2048) / 4096, 0, 0xFFFF);
+        const int next = a + (((in[x * step] << 8) - a) * fast + 2048) / 4096;
         average[x] = static_cast<std::uint16_t>(next);
-        out[x] = static_cast<std::uint8_t>(std::min(255, (next + 128) >> 8));
+        out[x] = static_cast<std::uint8_t>((next + 128) >> 8);
       }
+      continue;
+    }
+    for (int x = x0; x < x1; ++x) {
+      const std::uint64_t bit = std::uint64_t{1} << (x & 63);
+      const int a = average[x];
+      int target = 0, rate = fast;
+      if ((near_bits & bit) != 0) {
+        // Under the person and the margin around them the scene is not
+        // seen, but the light on it changes as on the rest of the scene:
+        // these pixels follow the scene's overall change (the exposure
+        // gain, about black for luma and about grey for chroma), so that
+        // what the subject uncovers after an hour under a window is not
+        // stale.
+        target = neutral_q8 + (((a - neutral_q8) * gain_q12 + 2048) >> 12);
+      } else {
+        // Foreground that is not the person adapts slowly: a passer-by is
+        // not learnt, an object left there is, in a minute or two.
+        if ((fg_bits & bit) != 0) rate = slow;
+        target = in[x * step] << 8;
+      }
+      // Rounded, not floored: a floor would pull a steady pixel down by
+      // up to half a grey level at the slow rate.
+      const int next = std::clamp(a + ((target - a) * rate + 2048) / 4096, 0, 0xFFFF);
+      average[x] = static_cast<std::uint16_t>(next);
+      out[x] = static_cast<std::uint8_t>(std::min(255, (next + 128) >> 8));
     }
   }
 }

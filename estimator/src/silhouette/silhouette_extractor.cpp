@@ -178,9 +178,13 @@ void SilhouetteExtractor::threshold_to_bits(const LumaView& frame, double gain, 
   row.width = width_;
   row.gain_q7 = silhouette_detail::gain_to_q7(gain);
   row.threshold = options_.threshold;
+  row.chroma_threshold = options_.chroma_threshold;
+  row.shadow_q7 = silhouette_detail::ratio_to_q7(options_.shadow_ratio);
+  const bool colour = frame.step == 2 && model_.has_chroma() && options_.chroma_threshold > 0 && width_ % 2 == 0;
   for (int y = 0; y < height_; ++y) {
     row.frame = frame.row(y);
     row.background = model_.row(y);
+    row.chroma_background = colour ? model_.chroma_row(y) : nullptr;
     silhouette_detail::threshold_row(row, out.row(y));
   }
 }

@@ -11,8 +11,14 @@
 namespace spinewatch::silhouette_detail {
 
 int gain_to_q7(double gain) { return static_cast<int>(std::clamp(std::lround(gain * 128.0), 0L, 255L)); }
+int ratio_to_q7(double ratio) { return static_cast<int>(std::clamp(std::lround(ratio * 128.0), 0L, 128L)); }
+
+namespace {
+bool colour(const ThresholdRow& row) { return row.chroma_background != nullptr && row.frame_step == 2; }
+}  // namespace
 
 void threshold_row_reference(const ThresholdRow& row, std::uint64_t* out) {
+  if (colour(row)) return threshold_colour_reference(row, out);
   const int words = (row.width + 63) / 64;
   std::fill(out, out + words, 0);
   const int limit = 128 * row.threshold;
@@ -44,6 +50,7 @@ inline unsigned sixteen(__m128i f_lo, __m128i f_hi, const std::uint8_t* bg, __m1
 }  // namespace
 
 void threshold_row(const ThresholdRow& row, std::uint64_t* out) {
+  if (colour(row)) return threshold_colour(row, out);
   if (row.frame_step != 1 && row.frame_step != 2) return threshold_row_reference(row, out);
   const int words = (row.width + 63) / 64;
   std::fill(out, out + words, 0);
@@ -85,7 +92,10 @@ void threshold_row(const ThresholdRow& row, std::uint64_t* out) {
   }
 }
 #else
-void threshold_row(const ThresholdRow& row, std::uint64_t* out) { threshold_row_reference(row, out); }
+void threshold_row(const ThresholdRow& row, std::uint64_t* out) {
+  if (colour(row)) return threshold_colour(row, out);
+  threshold_row_reference(row, out);
+}
 #endif
 
 }  // namespace spinewatch::silhouette_detail

@@ -13,7 +13,7 @@ constexpr int kRingPoints = 20;
 constexpr std::size_t kT12 = 11, kL1 = 12;
 
 // Clothing and skin, darker than the scene so the person stands out.
-constexpr std::uint8_t kShirt = 68, kSleeve = 88, kTrousers = 48, kSkin = 140;
+constexpr std::uint8_t kShirt = kShirtShade, kSleeve = kSleeveShade, kTrousers = kTrousersShade, kSkin = kSkinShade;
 
 // Points on a unit sphere, enough that the hull of their projection is
 // within a fraction of a pixel of the true outline at this image scale.

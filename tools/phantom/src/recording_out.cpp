@@ -1,8 +1,8 @@
 #include <fstream>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 
+#include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
@@ -21,23 +21,32 @@ Status write_recording(const PhantomSequence& sequence, const std::filesystem::p
     const PhantomFrame frame = sequence.render(index);
     const FrameInfo info{frame.seq, frame.t_ns};
     for (View view : kViews)
-      if (auto s = writer->write(view, Frame::owning(format, info, to_yuyv(frame.luma[static_cast<int>(view)]))); !s)
+      if (auto s = writer->write(view, Frame::owning(format, info, yuyv_bytes(frame, static_cast<int>(view)))); !s)
         return s;
     truth << encode_posture(frame.truth) << '\n';
   }
   truth.flush();
   if (!truth) return Error{fmt::format("{}: write failed", truth_path.string())};
 
+  // The empty scene as the cameras see it without noise: grey, or with
+  // colour as YUYV (the capture module's writer turns it into a colour PNG).
+  BackgroundImages images;
+  SceneImage* out[2] = {&images.frontal, &images.lateral};
   for (View view : kViews) {
-    const auto png = dir / fmt::format("background_{}.png", view == View::Frontal ? "frontal" : "lateral");
-    bool written = false;
-    try {
-      written = cv::imwrite(png.string(), sequence.background(view));
-    } catch (const cv::Exception& e) {
-      return Error{fmt::format("{}: {}", png.string(), e.what())};
+    const cv::Mat& luma = sequence.background(view);
+    SceneImage& image = *out[static_cast<int>(view)];
+    image.width = luma.cols;
+    image.height = luma.rows;
+    if (sequence.options().colour) {
+      cv::Mat chroma;
+      sequence.background_chroma(view).convertTo(chroma, CV_8UC2, 1.0, 128.0);
+      image.step = 2;
+      image.pixels = to_yuyv(luma, chroma);
+    } else {
+      image.pixels.assign(luma.datastart, luma.dataend);
     }
-    if (!written) return Error{fmt::format("{}: cannot write", png.string())};
   }
+  if (auto s = write_background_images(dir, images); !s) return s;
   if (auto s = save_calibration(dir / "calibration.yaml", sequence.options().rig); !s) return s;
   return writer->finish(sequence.subject_json(), sequence.notes());
 }

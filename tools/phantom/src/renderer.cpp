@@ -1,6 +1,7 @@
 #include "spinewatch/phantom/renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -62,6 +63,21 @@ ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32
   cloth_texture_ = random_field(rng, size);
   cv::GaussianBlur(cloth_texture_, cloth_texture_, {5, 5}, 1.0);
   cloth_texture_ *= 10;
+
+  // The scene's colour: a warm wall and a greyer floor, with blotches of
+  // their own; the same geometry as the luma above. Drawn last, so that the
+  // grey scene and the cloth are what they were before there was colour.
+  background_chroma_.create(size, CV_32FC2);
+  cv::Mat tint;
+  cv::resize(random_field(rng, {8, 6}), tint, size, 0, 0, cv::INTER_CUBIC);
+  for (int v = 0; v < size.height; ++v)
+    for (int u = 0; u < size.width; ++u) {
+      const Eigen::Vector3d d = camera.ray_through({u + 0.5, v + 0.5});
+      const double t_wall = wall / std::max(d.dot(axis), 1e-6);
+      const double t_floor = d.y() < 0 ? -centre.y() / d.y() : INFINITY;
+      const float t = 2.0f * tint.at<float>(v, u);
+      background_chroma_.at<cv::Vec2f>(v, u) = t_floor < t_wall ? cv::Vec2f(-4 + t, 6 - t) : cv::Vec2f(-10 + t, 14 + t);
+    }
 }
 
 cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
@@ -101,7 +117,7 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
     mean *= 1.0f / float(hull.size());
     // The body part, then a lighter core offset toward the light (above):
     // mild shading so a part is not a flat fill.
-    for (auto [scale, lift, extra] : {std::tuple{1.0f, 0.0f, 0}, std::tuple{0.55f, 0.12f, 12}}) {
+    for (auto [scale, lift, extra] : {std::tuple{1.0f, 0.0f, 0}, std::tuple{0.55f, 0.12f, kCoreLift}}) {
       fixed.clear();
       for (const auto& h : hull) {
         const cv::Point2f q = mean + scale * (h - mean) - cv::Point2f(0, lift * std::abs(h.y - mean.y));
@@ -113,19 +129,22 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
   return layer;
 }
 
-cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow) const {
+cv::Mat ViewRenderer::shadow_factor(const cv::Mat& mask) const {
+  // A soft shadow cast down and to the side onto the wall and floor.
+  cv::Mat cast;
+  mask.convertTo(cast, CV_32F, 1.0 / 255);
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 7, 0, 1, 5);
+  cv::warpAffine(cast, cast, shift, cast.size());
+  cv::GaussianBlur(cast, cast, {0, 0}, 6.0);
+  return 1.0f - 0.35f * cast;
+}
+
+cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow, bool camouflage) const {
   cv::Mat mask = layer > 0;
   cv::Mat background;
   background_.convertTo(background, CV_32F);
-  if (shadow) {
-    // A soft shadow cast down and to the side onto the wall and floor.
-    cv::Mat cast;
-    mask.convertTo(cast, CV_32F, 1.0 / 255);
-    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 7, 0, 1, 5);
-    cv::warpAffine(cast, cast, shift, cast.size());
-    cv::GaussianBlur(cast, cast, {0, 0}, 6.0);
-    background = background.mul(1.0f - 0.35f * cast);
-  }
+  const cv::Mat wall = camouflage ? background.clone() : cv::Mat();
+  if (shadow) background = background.mul(shadow_factor(mask));
   // Blur the shades within the person only (normalised by the blurred
   // mask), so the shading is soft but the outline stays where it is.
   cv::Mat shade, weight;
@@ -134,12 +153,53 @@ cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow) const {
   cv::GaussianBlur(shade, shade, {7, 7}, 1.5);
   cv::GaussianBlur(weight, weight, {7, 7}, 1.5);
   cv::Mat person = shade / cv::max(weight, 1e-3) + cloth_texture_;
+  if (camouflage) {
+    // The clothing at the wall's own brightness, with a little cloth
+    // texture; the skin keeps its shade.
+    const cv::Mat clothing = mask & (layer != kSkinShade) & (layer != kSkinShade + kCoreLift);
+    cv::Mat matched = wall + 0.4f * cloth_texture_;
+    matched.copyTo(person, clothing);
+  }
   person.copyTo(background, mask);
   // Real lenses are not perfectly sharp: soften the outline a little.
   cv::GaussianBlur(background, background, {3, 3}, 0.7);
   cv::Mat out;
   background.convertTo(out, CV_8U);
   return out;
+}
+
+namespace {
+// The colour of each body part, by its shade in the person layer (the
+// part's shade, or the part's lighter core, body.cpp): a blue shirt, navy
+// trousers, skin.
+std::array<cv::Vec2f, 256> part_chroma() {
+  std::array<cv::Vec2f, 256> table{};
+  const auto set = [&](int shade, cv::Vec2f c) {
+    table[std::size_t(shade)] = c;
+    table[std::size_t(std::min(255, shade + kCoreLift))] = c;
+  };
+  set(kShirtShade, {22, -16});
+  set(kSleeveShade, {20, -14});
+  set(kTrousersShade, {12, -4});  // navy
+  set(kSkinShade, {-14, 18});  // skin
+  return table;
+}
+}  // namespace
+
+cv::Mat ViewRenderer::compose_chroma(const cv::Mat& layer, bool shadow) const {
+  static const std::array<cv::Vec2f, 256> kPartChroma = part_chroma();
+  cv::Mat mask = layer > 0;
+  cv::Mat scene = background_chroma_.clone();
+  if (shadow) {
+    const cv::Mat factor = shadow_factor(mask);
+    for (int y = 0; y < scene.rows; ++y)
+      for (int x = 0; x < scene.cols; ++x) scene.at<cv::Vec2f>(y, x) *= factor.at<float>(y, x);
+  }
+  for (int y = 0; y < scene.rows; ++y)
+    for (int x = 0; x < scene.cols; ++x)
+      if (const std::uint8_t s = layer.at<std::uint8_t>(y, x); s != 0) scene.at<cv::Vec2f>(y, x) = kPartChroma[s];
+  cv::GaussianBlur(scene, scene, {3, 3}, 0.7);
+  return scene;
 }
 
 SensorModel::SensorModel(std::uint32_t seed, double noise_sigma, double flicker)
@@ -170,6 +230,46 @@ cv::Mat SensorModel::expose(const cv::Mat& clean, std::uint64_t frame, int view_
       state ^= state << 5;
       const float v = gain * float(in[x]) + sigma * gaussian_[state >> 16];
       o[x] = cv::saturate_cast<std::uint8_t>(v);
+    }
+  }
+  return out;
+}
+
+cv::Mat SensorModel::expose_chroma(const cv::Mat& chroma, std::uint64_t frame, int view_index) const {
+  // The same engine as expose(): the same gain; the noise from another
+  // stretch of the table.
+  std::seed_seq seq{seed_, 4u, std::uint32_t(frame), std::uint32_t(frame >> 32), std::uint32_t(view_index)};
+  std::mt19937 rng(seq);
+  const float gain = float(1.0 + std::uniform_real_distribution<double>(-flicker_, flicker_)(rng));
+  rng();
+  std::uint32_t state = rng() | 1u;
+  const float sigma = float(noise_sigma_ / 2);
+  cv::Mat out(chroma.size(), CV_8UC2);
+  for (int y = 0; y < chroma.rows; ++y)
+    for (int x = 0; x < chroma.cols; ++x) {
+      const cv::Vec2f c = chroma.at<cv::Vec2f>(y, x);
+      cv::Vec2b& o = out.at<cv::Vec2b>(y, x);
+      for (int k = 0; k < 2; ++k) {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        o[k] = cv::saturate_cast<std::uint8_t>(128.0f + gain * c[k] + sigma * gaussian_[state >> 16]);
+      }
+    }
+  return out;
+}
+
+std::vector<std::uint8_t> to_yuyv(const cv::Mat& grey, const cv::Mat& chroma) {
+  std::vector<std::uint8_t> out(std::size_t(grey.total()) * 2);
+  std::size_t k = 0;
+  for (int y = 0; y < grey.rows; ++y) {
+    const std::uint8_t* row = grey.ptr<std::uint8_t>(y);
+    const cv::Vec2b* c = chroma.ptr<cv::Vec2b>(y);
+    for (int x = 0; x + 1 < grey.cols; x += 2, k += 4) {
+      out[k] = row[x];
+      out[k + 1] = std::uint8_t((c[x][0] + c[x + 1][0] + 1) / 2);
+      out[k + 2] = row[x + 1];
+      out[k + 3] = std::uint8_t((c[x][1] + c[x + 1][1] + 1) / 2);
     }
   }
   return out;

@@ -84,6 +84,19 @@ cv::Mat PhantomSequence::light(const cv::Mat& clean, int index) const {
   return out;
 }
 
+// The same light on the chroma offsets: light scales them as it scales luma.
+cv::Mat PhantomSequence::light_chroma(const cv::Mat& chroma, int index) const {
+  if (options_.light_drift <= 0) return chroma;
+  const double t = frame_count() > 1 ? double(index) / double(frame_count() - 1) : 0.0;
+  cv::Mat out = chroma.clone();
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x) {
+      const double side = 0.5 + double(x) / double(std::max(1, out.cols - 1));
+      out.at<cv::Vec2f>(y, x) *= float(1.0 - options_.light_drift * t * side);
+    }
+  return out;
+}
+
 PhantomFrame PhantomSequence::render(int index) const {
   PhantomFrame frame;
   frame.seq = std::uint64_t(index);
@@ -103,9 +116,14 @@ PhantomFrame PhantomSequence::render(int index) const {
       scene_layer = renderer.person_layer(both);
     }
     const bool anyone = body || passer;
-    frame.clean[v] = anyone ? renderer.compose(scene_layer, options_.shadow) : renderer.background().clone();
+    frame.clean[v] = anyone ? renderer.compose(scene_layer, options_.shadow, options_.camouflage)
+                            : renderer.background().clone();
     frame.clean[v] = light(frame.clean[v], index);
     frame.luma[v] = sensor_.expose(frame.clean[v], frame.seq, view);
+    if (options_.colour) {
+      cv::Mat chroma = anyone ? renderer.compose_chroma(scene_layer, options_.shadow) : renderer.background_chroma().clone();
+      frame.chroma[v] = sensor_.expose_chroma(light_chroma(chroma, index), frame.seq, view);
+    }
   }
   frame.truth = ground_truth(index);
   return frame;
@@ -144,9 +162,10 @@ nlohmann::json PhantomSequence::subject_json() const {
 
 std::string PhantomSequence::notes() const {
   return fmt::format(
-      "phantom scenario={} seed={} frames={} empty_frames={} noise={} flicker={} shadow={} light_drift={} passer_by={}",
+      "phantom scenario={} seed={} frames={} empty_frames={} noise={} flicker={} shadow={} light_drift={} passer_by={} "
+      "colour={} camouflage={}",
       scenario_->name, options_.seed, person_frames_, options_.empty_frames, options_.noise_sigma, options_.flicker,
-      options_.shadow, options_.light_drift, options_.passer_by);
+      options_.shadow, options_.light_drift, options_.passer_by, options_.colour, options_.camouflage);
 }
 
 FramePair grey_pair(const PhantomFrame& f) {
@@ -155,6 +174,19 @@ FramePair grey_pair(const PhantomFrame& f) {
                                                  static_cast<std::uint32_t>(f.luma[0].rows));
   return FramePair{f.seq, f.t_ns, Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[0])),
                    Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[1]))};
+}
+
+std::vector<std::uint8_t> yuyv_bytes(const PhantomFrame& f, int view) {
+  const auto v = std::size_t(view);
+  return f.chroma[v].empty() ? to_yuyv(f.luma[v]) : to_yuyv(f.luma[v], f.chroma[v]);
+}
+
+FramePair camera_pair(const PhantomFrame& f) {
+  if (f.chroma[0].empty()) return grey_pair(f);
+  const FrameFormat format = FrameFormat::packed(PixelFormat::YUYV, static_cast<std::uint32_t>(f.luma[0].cols),
+                                                 static_cast<std::uint32_t>(f.luma[0].rows));
+  return FramePair{f.seq, f.t_ns, Frame::owning(format, {f.seq, f.t_ns}, yuyv_bytes(f, 0)),
+                   Frame::owning(format, {f.seq, f.t_ns}, yuyv_bytes(f, 1))};
 }
 
 }  // namespace spinewatch::phantom

@@ -1,7 +1,10 @@
 #pragma once
 // The station's empty scene as files (interfaces.md §2): background_frontal.png
-// and background_lateral.png, 8-bit grey or colour (colour is read as its
-// luma), each the frames' width × height. `spinewatch background` writes
+// and background_lateral.png, 8-bit grey or colour, each the frames' width
+// × height. Colour is read into YUYV (luma and chroma, for the silhouette's
+// colour test) and written from it, through OpenCV's full-range BT.601
+// YCrCb: a grey reader sees the same luma, and a round trip keeps Y, U and
+// V within a level. `spinewatch background` writes
 // them, `record` copies them into recordings, `replay` and the daemon load
 // them (docs/tuning.md, "Background").
 #include <array>
@@ -17,14 +20,17 @@ namespace spinewatch {
 
 inline constexpr std::array<std::string_view, 2> kBackgroundFiles = {"background_frontal.png", "background_lateral.png"};
 
-struct GreyImage {
+// One camera's empty scene: grey (step 1) or YUYV (step 2), packed rows.
+struct SceneImage {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> pixels;  // packed rows
-  LumaView view() const { return {pixels.data(), width, height, width, 1}; }
+  int step = 1;
+  std::vector<std::uint8_t> pixels;
+  LumaView view() const { return {pixels.data(), width, height, static_cast<std::ptrdiff_t>(width) * step, step}; }
+  bool colour() const { return step == 2; }
 };
 
 struct BackgroundImages {
-  GreyImage frontal, lateral;
+  SceneImage frontal, lateral;
 };
 
 // Both files exist in `dir` (one without the other is an error when loading).

@@ -49,6 +49,8 @@ struct Config {
     std::string background = "learn";  // learn | image | threshold
     int learn_frames = 10;
     int threshold = 28;        // grey levels above the background difference
+    int chroma_threshold = 12; // chroma levels that make a pixel person whatever its luma (YUYV); 0 = luma only
+    double shadow_ratio = 0.5; // darker down to this fraction, same colour: shadow, not person; 1 = keep shadows
     int min_blob_px = 600;
     std::string background_frontal = "";  // the station's empty scene (spinewatch background); "" = none
     std::string background_lateral = "";

@@ -37,6 +37,8 @@ struct EstimatorOptions {
   std::string background = "learn";  // learn | image | threshold
   int learn_frames = 10;
   int threshold = 28;
+  int chroma_threshold = 12;     // colour: SilhouetteOptions::chroma_threshold
+  double shadow_ratio = 0.5;     // colour: SilhouetteOptions::shadow_ratio
   int min_blob_px = 600;
   double adapt_s = 2.0;         // time constant of the adaptation outside the person; 0 = off
   int adapt_margin_px = 8;      // left alone around the person

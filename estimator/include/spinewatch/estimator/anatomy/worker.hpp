@@ -28,7 +28,21 @@ struct WorkerBody {
   BodyValueSource stature_source = BodyValueSource::Estimated;
   double mass_kg = 0;
   BodyValueSource mass_source = BodyValueSource::Estimated;
+  // A given stature the silhouettes contradict (standing, the top of the
+  // head more than kStatureMismatchMm above it): not used; the stature is
+  // then the measured one. Most likely the wrong worker was set. (A body
+  // shorter than given may be bending: that is not a contradiction.)
+  std::optional<double> rejected_stature_mm;
 };
+
+// How far the standing top of the head may rise above a given stature
+// before the stature is taken for someone else's: shoes and hair (up to about 40 mm) and the
+// measurement (8.4 mm worst on 40 ANSUR test subjects) stay well inside it;
+// a spine placed for a body 80 mm taller or shorter is off by about 74 mm
+// at T1 and 49 mm at L5 (the stature-only regressions' slopes, 0.93 and
+// 0.62, config/anthropometry.toml): more than the station may publish as
+// tracking without a word.
+inline constexpr double kStatureMismatchMm = 80;
 
 // The body-mass index the mass is estimated with when it is not given: the
 // median of the ANSUR II training subjects (both sexes; 26.66 kg/m²). On

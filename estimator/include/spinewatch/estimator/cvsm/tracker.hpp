@@ -73,6 +73,10 @@ class CvsmTracker {
   BitMask fitted_mask(int view);
   // The subject model once built (during init: the current estimate).
   const BodyModel* subject_model() const;
+  // The given stature (CvsmOptions::stature_mm) when the standing
+  // silhouettes contradicted it and it was set aside (anatomy/worker.hpp,
+  // kStatureMismatchMm); nothing otherwise.
+  std::optional<double> rejected_stature_mm() const;
   // Starts over: a new subject.
   void reset();
 

@@ -9,7 +9,12 @@
 //     background follows the scene's overall change; foreground that is
 //     not the person (a moved chair) is absorbed far more slowly;
 //   - re-learning: when the scene has been empty for a while, the whole
-//     background is replaced by the mean of the next empty frames.
+//     background is replaced by the mean of the next empty frames;
+//   - colour: given YUYV (a LumaView of step 2), the model keeps the
+//     chroma too, U and V of each pixel pair interleaved as in the frame,
+//     learnt and adapted as the luma is (under the person it follows the
+//     gain about neutral grey). A background set from grey has none, nor
+//     one whose chroma is neutral grey everywhere (a camera without colour).
 // Pure computation: the caller reads and writes images.
 #include <algorithm>
 #include <cstdint>
@@ -64,10 +69,16 @@ class BackgroundModel {
   int width() const { return width_; }
   int height() const { return height_; }
   // Packed rows of width() bytes; valid once ready().
-  const std::uint8_t* row(int y) const { return pixels_.data() + static_cast<std::ptrdiff_t>(y) * width_; }
-  const std::vector<std::uint8_t>& pixels() const { return pixels_; }
+  const std::uint8_t* row(int y) const { return luma_.bytes.data() + static_cast<std::ptrdiff_t>(y) * width_; }
+  const std::vector<std::uint8_t>& pixels() const { return luma_.bytes; }
+  // Chroma: rows of width() bytes, U V U V … (one pair per two pixels).
+  bool has_chroma() const { return !chroma_.bytes.empty(); }
+  const std::uint8_t* chroma_row(int y) const {
+    return chroma_.bytes.data() + static_cast<std::ptrdiff_t>(y) * width_;
+  }
 
-  // Replaces the whole background. Errors name the problem (size).
+  // Replaces the whole background (with chroma when `image` is YUYV).
+  // Errors name the problem (size).
   Status set(const LumaView& image, BackgroundSource source);
 
   // Adds an empty-scene frame to the learning mean; true once
@@ -86,15 +97,28 @@ class BackgroundModel {
   void update(const LumaView& frame, const BitMask& foreground, const BitMask& person, double gain = 1.0);
 
  private:
+  // One plane of the background: luma (neutral 0) or chroma (neutral 128).
+  struct Plane {
+    std::vector<std::uint8_t> bytes;      // what the threshold compares with
+    std::vector<std::uint16_t> average;   // the same in Q8, for the running average
+    std::vector<std::uint32_t> learn_sum; // while learning
+    void set_from(const LumaView& frame, int offset);
+    void accumulate(const LumaView& frame, int offset);
+    void finish_learning(std::uint32_t count);
+    bool has_colour() const;  // any chroma off neutral grey
+    void clear();
+  };
   void adapt_rows(const LumaView& frame, const BitMask& foreground, const BitMask& person, double gain);
+  void adapt_plane(Plane& plane, const LumaView& frame, int offset, int neutral, int y, const std::uint64_t* near,
+                   const std::uint64_t* fg, int gain_q12, int fast, int slow);
 
   BackgroundAdaptation options_;
   BackgroundSource source_ = BackgroundSource::None;
   BackgroundCounters counters_;
   int width_ = 0, height_ = 0;
-  std::vector<std::uint8_t> pixels_;      // what the threshold compares with
-  std::vector<std::uint16_t> average_;    // the same in Q8, for the running average
-  std::vector<std::uint32_t> learn_sum_;  // while learning
+  Plane luma_;
+  Plane chroma_;               // empty: no colour
+  bool learning_chroma_ = false;  // every frame of this learning mean had colour
   int learned_ = 0;
   int empty_frames_ = 0;
   std::uint64_t frame_counter_ = 0;

@@ -29,6 +29,15 @@ struct SilhouetteOptions {
   BackgroundMode background = BackgroundMode::Learn;
   int learn_frames = 10;
   int threshold = 28;      // grey levels of |frame − gain·background| that make a pixel foreground
+  // Colour (YUYV frames and a background with chroma; threshold_colour.cpp):
+  // a pixel pair whose chroma differs from the background's by more than
+  // this (|ΔU| + |ΔV| at the background's brightness) is foreground
+  // whatever its luma; 0: luma alone.
+  int chroma_threshold = 12;
+  // A pixel darker than the background but no darker than this fraction
+  // of it, keeping the background's colour, is a shadow, not the person;
+  // 1: no shadow is removed. Only with colour.
+  double shadow_ratio = 0.5;
   int min_blob_px = 600;   // smaller blobs are noise
   double second_blob_fraction = 0.25;  // a second blob this large (of the first) → two_blobs
   BackgroundAdaptation adaptation;     // keeping the background up to date

@@ -17,6 +17,11 @@ namespace spinewatch::phantom {
 
 // A convex body part given by points on its surface; its image is the
 // convex hull of their projections.
+// Grey levels of the clothing and skin; the renderer lightens each part's
+// core by kCoreLift, and colours each part by its shade (renderer.cpp).
+inline constexpr std::uint8_t kShirtShade = 68, kSleeveShade = 88, kTrousersShade = 48, kSkinShade = 140;
+inline constexpr int kCoreLift = 12;
+
 struct Solid {
   std::vector<Eigen::Vector3d> points;
   std::uint8_t shade = 80;  // grey level of its clothing or skin

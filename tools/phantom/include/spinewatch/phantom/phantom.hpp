@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -38,6 +39,12 @@ struct PhantomOptions {
   double light_drift = 0;
   // a second person walks behind the subject, across the frontal view.
   bool passer_by = false;
+  // Colour: the cameras deliver YUYV with chroma (a warm wall, a blue
+  // shirt, navy trousers, skin); otherwise U = V = 128.
+  bool colour = false;
+  // The clothing and skin as bright as the wall behind them: only colour
+  // tells the person from the scene.
+  bool camouflage = false;
   CameraRig rig = CameraRig::default_rig();
 };
 
@@ -47,11 +54,17 @@ struct PhantomFrame {
   std::array<cv::Mat, 2> luma;    // what each camera delivers (index: View)
   std::array<cv::Mat, 2> clean;   // the same without noise and flicker
   std::array<cv::Mat, 2> person;  // the person layer: 0 where the scene shows
+  std::array<cv::Mat, 2> chroma;  // with colour: (U, V) of each pixel as delivered (CV_8UC2); else empty
   Posture truth;
 };
 
 // The frame as both cameras would deliver it to the estimator (GREY).
 FramePair grey_pair(const PhantomFrame& frame);
+// As the cameras deliver it: YUYV with the chroma when the frame has
+// colour, GREY otherwise.
+FramePair camera_pair(const PhantomFrame& frame);
+// YUYV bytes of one view of the frame (neutral chroma without colour).
+std::vector<std::uint8_t> yuyv_bytes(const PhantomFrame& frame, int view);
 
 class PhantomSequence {
  public:
@@ -64,6 +77,7 @@ class PhantomSequence {
   const Scenario& scenario() const { return *scenario_; }
   const BodyModel& body() const { return body_; }
   const cv::Mat& background(View view) const { return renderers_[static_cast<int>(view)].background(); }
+  const cv::Mat& background_chroma(View view) const { return renderers_[static_cast<int>(view)].background_chroma(); }
   const CameraModel& camera(View view) const {
     return view == View::Frontal ? options_.rig.frontal : options_.rig.lateral;
   }
@@ -81,6 +95,7 @@ class PhantomSequence {
   std::optional<BodyPose> pose_at(int index) const;  // nothing for an empty frame
   std::optional<BodyPose> passer_at(int index) const;  // nothing when out of the scene
   cv::Mat light(const cv::Mat& clean, int index) const;
+  cv::Mat light_chroma(const cv::Mat& chroma, int index) const;
 
   PhantomOptions options_;
   const Scenario* scenario_;

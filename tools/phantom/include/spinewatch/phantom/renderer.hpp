@@ -22,12 +22,24 @@ class ViewRenderer {
   // The person alone (CV_8U): the shade of the nearest body part where the
   // body covers a pixel, 0 elsewhere.
   cv::Mat person_layer(const BodyPose& body) const;
-  // The noise-free scene with the person in it.
-  cv::Mat compose(const cv::Mat& person_layer, bool shadow) const;
+  // The noise-free scene with the person in it. `camouflage`: the
+  // clothing and skin as bright as the wall behind them (only their colour
+  // tells them apart).
+  cv::Mat compose(const cv::Mat& person_layer, bool shadow, bool camouflage = false) const;
+
+  // Colour, as chroma offsets from neutral (CV_32FC2: U − 128, V − 128):
+  // the empty scene (a warm wall, a greyer floor) and the scene with the
+  // person, matching compose(): a shadow dims the chroma as it dims the
+  // luma, so it keeps the wall's colour.
+  const cv::Mat& background_chroma() const { return background_chroma_; }
+  cv::Mat compose_chroma(const cv::Mat& person_layer, bool shadow) const;
 
  private:
+  cv::Mat shadow_factor(const cv::Mat& mask) const;  // CV_32F, 1 where no shadow falls
+
   CameraModel camera_;
   cv::Mat background_;     // CV_8U
+  cv::Mat background_chroma_;  // CV_32FC2
   cv::Mat cloth_texture_;  // CV_32F, a few grey levels either way
 };
 
@@ -37,6 +49,9 @@ class SensorModel {
  public:
   SensorModel(std::uint32_t seed, double noise_sigma, double flicker);
   cv::Mat expose(const cv::Mat& clean, std::uint64_t frame, int view_index) const;
+  // The chroma offsets (CV_32FC2) as the same exposure delivers them: the
+  // frame's gain, half the luma's noise; CV_8UC2 (U, V).
+  cv::Mat expose_chroma(const cv::Mat& chroma, std::uint64_t frame, int view_index) const;
 
  private:
   std::uint32_t seed_;
@@ -46,5 +61,8 @@ class SensorModel {
 
 // YUYV bytes (Y from the grey image, U = V = 128), packed rows.
 std::vector<std::uint8_t> to_yuyv(const cv::Mat& grey);
+// YUYV bytes from luma and per-pixel chroma (CV_8UC2), U and V averaged
+// over each pixel pair as a 4:2:2 camera does.
+std::vector<std::uint8_t> to_yuyv(const cv::Mat& grey, const cv::Mat& chroma);
 
 }  // namespace spinewatch::phantom
