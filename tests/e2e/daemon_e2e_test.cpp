@@ -175,6 +175,38 @@ TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
   EXPECT_EQ(bad_listen.exit_code, 1) << bad_listen.output;
 }
 
+// Safe by default (issue 21, docs/security.md): a TCP listener on a
+// network address is refused at start while nothing authenticates its
+// clients; allowed explicitly, it starts with a warning in the log and in
+// every client's hello line.
+TEST_F(DaemonE2E, ANetworkListenerWithoutAuthenticationIsRefusedUnlessAllowed) {
+  const auto rec = make_recording(10);
+  const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
+  const auto port = free_tcp_port();
+  const std::string listen = "0.0.0.0:" + std::to_string(port);
+  auto refused = test::run_command(std::string(SPINEWATCHD) + " --config '" + config.string() + "' --unix none --listen " + listen);
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("--listen " + listen + ": not a loopback address"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("allow_unauthenticated = true"), std::string::npos) << refused.output;
+
+  std::string text = test::read_file(config);
+  text.replace(text.find("[publish]\n"), 10, "[publish]\nallow_unauthenticated = true\n");
+  test::write_file(config, text);
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", listen, "--unix", "none"}, dir / "daemon.log");
+  auto client = connect_when_up([&] { return LineClient::tcp(port); }, daemon);
+  ASSERT_TRUE(client) << daemon.log();
+  const auto line = client->read_line();
+  ASSERT_TRUE(line) << daemon.log();
+  const auto hello = nlohmann::json::parse(*line);
+  ASSERT_TRUE(hello.contains("warnings")) << *line;
+  EXPECT_NE(hello.at("warnings").at(0).get<std::string>().find("unauthenticated: tcp " + listen), std::string::npos) << *line;
+  test::write_file(dir / "hello.ndjson", *line + "\n");
+  EXPECT_EQ(test::validate_ndjson(dir / "hello.ndjson"), "");
+  daemon.signal(SIGTERM);
+  EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
+  EXPECT_NE(daemon.log().find("warning: unauthenticated: tcp " + listen), std::string::npos) << daemon.log();
+}
+
 TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
   const auto rec = make_recording(10);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");

@@ -91,8 +91,17 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
   PublisherOptions o;
   const std::string listen = overrides.listen.value_or(config.publish.listen);
   if (listen != "none") {
+    const std::string where = overrides.listen ? "--listen " : "publish.listen: ";
     auto endpoint = parse_listen_address(listen);
-    if (!endpoint) return Error{(overrides.listen ? "--listen " : "publish.listen: ") + endpoint.error().message};
+    if (!endpoint) return Error{where + endpoint.error().message};
+    // Safe by default (docs/security.md): the stream is health data about
+    // identifiable workers, and nothing authenticates its clients yet.
+    if (!is_loopback(*endpoint) && !config.publish.allow_unauthenticated)
+      return Error{fmt::format(
+          "{}{}: not a loopback address, and the posture stream has no authentication: anyone who can reach the "
+          "port would read the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH tunnel or an "
+          "authenticating proxy), or set [publish] allow_unauthenticated = true to accept that (docs/security.md)",
+          where, listen)};
     o.tcp = *endpoint;
   }
   const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
@@ -128,6 +137,7 @@ struct Daemon::Impl {
   DaemonOverrides overrides;
   CameraRig rig;
   std::string source_name;
+  std::vector<std::string> hello_warnings;  // said to every client (make_hello_line)
   // The worker a client's set_worker or a reload named, for the estimator
   // thread to take up before its next pair (declared before the publisher,
   // whose I/O thread sets it).
@@ -292,7 +302,7 @@ struct Daemon::Impl {
     if (fresh->log.level != config.log.level)
       spdlog::default_logger()->set_level(spdlog::level::from_str(fresh->log.level));
     if (fresh->station.name != config.station.name)
-      publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name));
+      publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name, hello_warnings));
     config.station = fresh->station;
     config.log = fresh->log;
     if (fresh->subject.stature_mm != config.subject.stature_mm || fresh->subject.mass_kg != config.subject.mass_kg) {
@@ -358,7 +368,14 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto options = publisher_options(d.config, d.overrides);
   if (!options) return options.error();
   options->on_input = [&d](std::string_view line, const std::string& client) { return d.on_client_line(line, client); };
-  auto publisher = Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name));
+  if (options->tcp && !is_loopback(*options->tcp)) {
+    d.hello_warnings.push_back(fmt::format(
+        "unauthenticated: tcp {}:{} serves the posture stream to anyone who can reach it (publish.allow_unauthenticated)",
+        options->tcp->host, options->tcp->port));
+    spdlog::warn("{}", d.hello_warnings.back());
+  }
+  auto publisher =
+      Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name, d.hello_warnings));
   if (!publisher) return publisher.error();
   d.publisher = std::move(publisher).value();
   if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());

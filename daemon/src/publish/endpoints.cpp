@@ -1,6 +1,7 @@
 #include <cstdlib>
 #include <string>
 
+#include <boost/asio/ip/address.hpp>
 #include <fmt/format.h>
 
 #include "spinewatch/daemon/publisher.hpp"
@@ -19,6 +20,13 @@ Result<TcpEndpoint> parse_listen_address(const std::string& text) {
   const long port = std::stol(port_text);
   if (port > 65535) return Error{fmt::format("\"{}\": port {} is out of range [0, 65535]", text, port)};
   return TcpEndpoint{host, static_cast<std::uint16_t>(port)};
+}
+
+bool is_loopback(const TcpEndpoint& endpoint) {
+  if (endpoint.host == "localhost") return true;
+  boost::system::error_code ec;
+  const auto address = boost::asio::ip::make_address(endpoint.host, ec);
+  return !ec && address.is_loopback();
 }
 
 std::filesystem::path default_unix_socket_path() {

@@ -28,13 +28,15 @@ nlohmann::json camera_json(const CameraModel& camera) {
 
 }  // namespace
 
-std::string make_hello_line(const std::string& station, const CameraRig& rig, const std::string& source) {
+std::string make_hello_line(const std::string& station, const CameraRig& rig, const std::string& source,
+                            const std::vector<std::string>& warnings) {
   nlohmann::json hello = {{"class", "hello"},
                           {"v", kPostureSchemaVersion},
                           {"daemon_version", kVersion},
                           {"station", station},
                           {"rig", {{"frontal", camera_json(rig.frontal)}, {"lateral", camera_json(rig.lateral)}}},
                           {"source", source}};
+  if (!warnings.empty()) hello["warnings"] = warnings;
   return hello.dump();
 }
 

@@ -136,6 +136,7 @@ const std::vector<Key>& keys() {
                  {"measured", "generic"}),
 
       string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
+      bool_key("publish.allow_unauthenticated", [](Config& c) -> bool& { return c.publish.allow_unauthenticated; }),
       string_key("publish.unix_socket", [](Config& c) -> std::string& { return c.publish.unix_socket; }),
       int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
       int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),

@@ -92,6 +92,10 @@ struct Config {
     std::string unix_socket = "";           // "" = $RUNTIME_DIRECTORY/posture.sock, "none" = off
     int client_queue = 256;                 // lines buffered per client before it is dropped
     int max_clients = 32;
+    // The stream has no authentication yet (docs/security.md): a TCP address
+    // that is not loopback is refused at start unless this says the site
+    // accepts that anyone who can reach the port reads the postures.
+    bool allow_unauthenticated = false;
     bool operator==(const Publish&) const = default;
   } publish;
 

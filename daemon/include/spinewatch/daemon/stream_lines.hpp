@@ -4,6 +4,7 @@
 // daemon's counters as the optional "stats" object.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
@@ -19,7 +20,10 @@ struct StreamStats {
 };
 
 // {"class":"hello","v":1,"daemon_version":…,"station":…,"rig":{…},"source":…}
-std::string make_hello_line(const std::string& station, const CameraRig& rig, const std::string& source);
+// `warnings`: what every client should know about this station's setup
+// (an unauthenticated network listener); the field is absent when none.
+std::string make_hello_line(const std::string& station, const CameraRig& rig, const std::string& source,
+                            const std::vector<std::string>& warnings = {});
 // encode_posture(posture) plus "stats":{…}.
 std::string encode_posture_line(const Posture& posture, const StreamStats& stats);
 
