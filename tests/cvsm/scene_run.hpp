@@ -38,21 +38,8 @@ inline SceneRunStats run_scene(const phantom::PhantomSequence& seq, const SceneR
   PostureEstimator estimator(seq.options().rig, options.estimator);
   if (options.stored_background) {
     // The empty scene as the phantom writes it: grey, or YUYV with colour.
-    std::vector<std::uint8_t> images[2];
-    LumaView views[2];
-    for (View v : kViews) {
-      const auto i = static_cast<std::size_t>(v);
-      const cv::Mat& luma = seq.background(v);
-      if (seq.options().colour) {
-        cv::Mat chroma;
-        seq.background_chroma(v).convertTo(chroma, CV_8UC2, 1.0, 128.0);
-        images[i] = phantom::to_yuyv(luma, chroma);
-        views[i] = {images[i].data(), luma.cols, luma.rows, 2 * static_cast<std::ptrdiff_t>(luma.cols), 2};
-      } else {
-        views[i] = {luma.data, luma.cols, luma.rows, static_cast<std::ptrdiff_t>(luma.step), 1};
-      }
-    }
-    if (auto s = estimator.set_backgrounds(views[0], views[1]); !s) throw std::runtime_error(s.error().message);
+    const SceneImage f = phantom::stored_background(seq, View::Frontal), l = phantom::stored_background(seq, View::Lateral);
+    if (auto s = estimator.set_backgrounds(f.view(), l.view()); !s) throw std::runtime_error(s.error().message);
   }
   SceneRunStats st;
   for (int i = 0; i < seq.frame_count(); ++i) {

@@ -30,22 +30,7 @@ Status write_recording(const PhantomSequence& sequence, const std::filesystem::p
 
   // The empty scene as the cameras see it without noise: grey, or with
   // colour as YUYV (the capture module's writer turns it into a colour PNG).
-  BackgroundImages images;
-  SceneImage* out[2] = {&images.frontal, &images.lateral};
-  for (View view : kViews) {
-    const cv::Mat& luma = sequence.background(view);
-    SceneImage& image = *out[static_cast<int>(view)];
-    image.width = luma.cols;
-    image.height = luma.rows;
-    if (sequence.options().colour) {
-      cv::Mat chroma;
-      sequence.background_chroma(view).convertTo(chroma, CV_8UC2, 1.0, 128.0);
-      image.step = 2;
-      image.pixels = to_yuyv(luma, chroma);
-    } else {
-      image.pixels.assign(luma.datastart, luma.dataend);
-    }
-  }
+  const BackgroundImages images{stored_background(sequence, View::Frontal), stored_background(sequence, View::Lateral)};
   if (auto s = write_background_images(dir, images); !s) return s;
   if (auto s = save_calibration(dir / "calibration.yaml", sequence.options().rig); !s) return s;
   return writer->finish(sequence.subject_json(), sequence.notes());

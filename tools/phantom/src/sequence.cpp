@@ -71,29 +71,28 @@ std::optional<BodyPose> PhantomSequence::passer_at(int index) const {
 // Light drift: the scene (person included) lit less and less, by
 // light_drift on average at the end, from 0.5× that at one side of the
 // image to 1.5× at the other.
+double PhantomSequence::light_gain(int x, int width, int index) const {
+  const double t = frame_count() > 1 ? double(index) / double(frame_count() - 1) : 0.0;
+  const double side = 0.5 + double(x) / double(std::max(1, width - 1));
+  return 1.0 - options_.light_drift * t * side;
+}
+
 cv::Mat PhantomSequence::light(const cv::Mat& clean, int index) const {
   if (options_.light_drift <= 0) return clean;
-  const double t = frame_count() > 1 ? double(index) / double(frame_count() - 1) : 0.0;
   cv::Mat out(clean.size(), CV_8U);
   for (int y = 0; y < clean.rows; ++y)
-    for (int x = 0; x < clean.cols; ++x) {
-      const double side = 0.5 + double(x) / double(std::max(1, clean.cols - 1));
-      const double gain = 1.0 - options_.light_drift * t * side;
-      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(gain * clean.at<std::uint8_t>(y, x));
-    }
+    for (int x = 0; x < clean.cols; ++x)
+      out.at<std::uint8_t>(y, x) =
+          cv::saturate_cast<std::uint8_t>(light_gain(x, clean.cols, index) * clean.at<std::uint8_t>(y, x));
   return out;
 }
 
 // The same light on the chroma offsets: light scales them as it scales luma.
 cv::Mat PhantomSequence::light_chroma(const cv::Mat& chroma, int index) const {
   if (options_.light_drift <= 0) return chroma;
-  const double t = frame_count() > 1 ? double(index) / double(frame_count() - 1) : 0.0;
   cv::Mat out = chroma.clone();
   for (int y = 0; y < out.rows; ++y)
-    for (int x = 0; x < out.cols; ++x) {
-      const double side = 0.5 + double(x) / double(std::max(1, out.cols - 1));
-      out.at<cv::Vec2f>(y, x) *= float(1.0 - options_.light_drift * t * side);
-    }
+    for (int x = 0; x < out.cols; ++x) out.at<cv::Vec2f>(y, x) *= float(light_gain(x, out.cols, index));
   return out;
 }
 
@@ -174,6 +173,20 @@ FramePair grey_pair(const PhantomFrame& f) {
                                                  static_cast<std::uint32_t>(f.luma[0].rows));
   return FramePair{f.seq, f.t_ns, Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[0])),
                    Frame::owning(format, {f.seq, f.t_ns}, bytes(f.luma[1]))};
+}
+
+SceneImage stored_background(const PhantomSequence& sequence, View view) {
+  const cv::Mat& luma = sequence.background(view);
+  SceneImage image{luma.cols, luma.rows, 1, {}};
+  if (sequence.options().colour) {
+    cv::Mat chroma;
+    sequence.background_chroma(view).convertTo(chroma, CV_8UC2, 1.0, 128.0);
+    image.step = 2;
+    image.pixels = to_yuyv(luma, chroma);
+  } else {
+    image.pixels.assign(luma.datastart, luma.dataend);
+  }
+  return image;
 }
 
 std::vector<std::uint8_t> yuyv_bytes(const PhantomFrame& f, int view) {

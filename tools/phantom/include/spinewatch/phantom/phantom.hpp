@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
@@ -96,6 +97,7 @@ class PhantomSequence {
   std::optional<BodyPose> passer_at(int index) const;  // nothing when out of the scene
   cv::Mat light(const cv::Mat& clean, int index) const;
   cv::Mat light_chroma(const cv::Mat& chroma, int index) const;
+  double light_gain(int x, int width, int index) const;  // light drift at column x of frame `index`
 
   PhantomOptions options_;
   const Scenario* scenario_;
@@ -105,6 +107,10 @@ class PhantomSequence {
   std::array<ViewRenderer, 2> renderers_;
   SensorModel sensor_;
 };
+
+// The empty scene as the station would store it (spinewatch background):
+// grey, or YUYV with colour; noise-free.
+SceneImage stored_background(const PhantomSequence& sequence, View view);
 
 std::int64_t frame_time_ns(std::uint64_t index);  // round(index · 1e9 / 30)
 
