@@ -38,6 +38,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     std::string placement = "measured";
     int frames = 0;
     bool known_worker = false;
+    bool known_landmarks = false;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -58,6 +59,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::Range(0, 100000));
   cmd->add_flag("--known-worker", opts->known_worker,
                 "Give the estimator each subject's stature and mass, as for a known worker");
+  cmd->add_flag("--known-landmarks", opts->known_landmarks,
+                "Give each subject's stature, mass, C7 and iliac-crest heights, as for a worker measured at set-up");
   cmd->callback([opts, &exit_code] {
     // The options first (exit 2), then the data (exit 1).
     population::SweepOptions sweep;
@@ -73,6 +76,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     if (subjects.empty()) return exit_code.fail(Error{"population: no subject matches the selection"});
     sweep.frames = opts->frames;
     sweep.known_worker = opts->known_worker;
+    sweep.known_landmarks = opts->known_landmarks;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
 
     std::vector<population::Run> runs;
@@ -90,7 +94,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     fmt::print("{}\n", population::format_runs(runs));
     fmt::print("{}", population::format_pooled(population::pool(runs),
                                               fmt::format("{} set, spine placement {}{}", opts->set, opts->placement,
-                                                          opts->known_worker ? ", stature and mass given" : "")));
+                                                          opts->known_landmarks ? ", stature, mass, C7 and iliac crest given"
+                                                          : opts->known_worker ? ", stature and mass given" : "")));
   });
 }
 

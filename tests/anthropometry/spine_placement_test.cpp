@@ -32,6 +32,25 @@ TEST(SpinePlacement, IsTheStatureRegressionsMinusTheSkinOffsets) {
   EXPECT_GT(m.predict(1900).t1_mm - m.predict(1600).t1_mm, 250);
 }
 
+// A known worker's measured landmarks place their own end of the spine by
+// the skin rule; an end without one stays the stature's prediction.
+TEST(SpinePlacement, MeasuredLandmarksPlaceTheirEnds) {
+  const SpinePlacementModel& m = default_spine_placement();
+  const SpinePlacement predicted = m.predict(1750);
+  const SpinePlacement both = m.place(1750, 1480.0, 1010.0);
+  EXPECT_NEAR(both.t1_mm, 1480 - 15, 1e-9);
+  EXPECT_NEAR(both.l5_mm, 1010 - 17.5, 1e-9);
+  EXPECT_NEAR(m.place(1750, 1480.0, 1010.0, Sex::Male).l5_mm, 1010 - 25, 1e-9);
+  const SpinePlacement c7_only = m.place(1750, 1480.0, std::nullopt);
+  EXPECT_NEAR(c7_only.t1_mm, 1465, 1e-9);
+  EXPECT_NEAR(c7_only.l5_mm, predicted.l5_mm, 1e-9);
+  const SpinePlacement crest_only = m.place(1750, std::nullopt, 1010.0);
+  EXPECT_NEAR(crest_only.t1_mm, predicted.t1_mm, 1e-9);
+  const SpinePlacement neither = m.place(1750, std::nullopt, std::nullopt);
+  EXPECT_EQ(neither.t1_mm, predicted.t1_mm);
+  EXPECT_EQ(neither.l5_mm, predicted.l5_mm);
+}
+
 TEST(SpinePlacement, PlacedSpecPutsT1AndL5WhereAskedAndKeepsTheCurve) {
   const SpineSpec& generic = generic_spine_spec();
   const SpineSpec placed = placed_spine(generic, 1700, {1450, 1010});

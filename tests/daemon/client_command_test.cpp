@@ -23,6 +23,18 @@ TEST(ClientCommand, SetWorkerWithStatureMassOrNeither) {
   EXPECT_EQ(unknown->worker, KnownWorker{}) << "an unknown worker: everything measured or estimated";
 }
 
+TEST(ClientCommand, SetWorkerWithMeasuredLandmarks) {
+  auto all = parse_client_command(
+      R"({"command":"set_worker","stature_mm":1755,"c7_height_mm":1500,"iliac_crest_height_mm":1040})");
+  ASSERT_TRUE(all) << all.error().message;
+  EXPECT_EQ(all->worker, (KnownWorker{1755.0, std::nullopt, 1500.0, 1040.0}));
+  const auto reply = nlohmann::json::parse(accepted_reply(*all));
+  EXPECT_EQ(reply.at("worker").at("c7_height_mm"), 1500.0);
+  EXPECT_EQ(reply.at("worker").at("iliac_crest_height_mm"), 1040.0);
+  const auto plain = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}}));
+  EXPECT_FALSE(plain.at("worker").contains("c7_height_mm")) << "landmarks only when given";
+}
+
 TEST(ClientCommand, BadLinesSayWhatIsWrong) {
   const std::pair<const char*, const char*> cases[] = {
       {"hello", "not valid JSON (one JSON object per line)"},
@@ -31,7 +43,11 @@ TEST(ClientCommand, BadLinesSayWhatIsWrong) {
       {R"({"stature_mm": 1700})", "command: missing"},
       {R"({"command": 7})", "command: expected a string, got number"},
       {R"({"command": "shutdown"})", "command: \"shutdown\" is not a command (known: set_worker)"},
-      {R"({"command": "set_worker", "height": 1700})", "height: not a field of set_worker (stature_mm, mass_kg)"},
+      {R"({"command": "set_worker", "height": 1700})",
+       "height: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm)"},
+      {R"({"command": "set_worker", "c7_height_mm": 150})", "c7_height_mm: 150 is out of range [800, 2000]"},
+      {R"({"command": "set_worker", "stature_mm": 1600, "c7_height_mm": 1550})",
+       "c7_height_mm: 1550 mm is not at least 100 mm below the stature (1600 mm)"},
       {R"({"command": "set_worker", "stature_mm": "tall"})", "stature_mm: expected a number or null, got string"},
       {R"({"command": "set_worker", "stature_mm": 400})", "stature_mm: 400 is out of range [1000, 2300]"},
       {R"({"command": "set_worker", "mass_kg": 300})", "mass_kg: 300 is out of range [20, 250]"},

@@ -96,7 +96,7 @@ TEST(Config, AnnotatedDefaultFileListsEveryKeyWithItsDefault) {
   const std::string text = test::read_file(path);
   std::set<std::string> in_file;
   std::string section;
-  std::regex section_re(R"(^\[([a-z_]+)\]\s*$)"), key_re(R"(^([a-z_]+)\s*=)");
+  std::regex section_re(R"(^\[([a-z_]+)\]\s*$)"), key_re(R"(^([a-z_0-9]+)\s*=)");
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
     std::smatch m;
@@ -146,6 +146,30 @@ TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
   EXPECT_TRUE(reloadable_key("subject.stature_mm"));
   EXPECT_TRUE(reloadable_key("subject.mass_kg"));
   EXPECT_EQ(changed_keys(*zero, *known), (std::vector<std::string>{"subject.stature_mm", "subject.mass_kg"}));
+}
+
+TEST(Config, AKnownWorkersLandmarksReachTheEstimatorCheckedTogether) {
+  auto known = parse_config("[subject]\nstature_mm = 1755\nc7_height_mm = 1500\niliac_crest_height_mm = 1040\n", "s.toml");
+  ASSERT_TRUE(known) << known.error().message;
+  EXPECT_EQ(estimator_options(*known).worker, (KnownWorker{1755.0, std::nullopt, 1500.0, 1040.0}));
+  auto range = parse_config("[subject]\niliac_crest_height_mm = 300\n", "s.toml");
+  ASSERT_FALSE(range);
+  EXPECT_EQ(range.error().message,
+            "s.toml:2: subject.iliac_crest_height_mm: 300 is out of range [500, 1400] (0 = not known)");
+  // Each within its range, but not together: the error at the key the check names.
+  auto crossed = parse_config("[subject]\nc7_height_mm = 1100\n\niliac_crest_height_mm = 1000\n", "s.toml");
+  ASSERT_FALSE(crossed);
+  EXPECT_EQ(crossed.error().message,
+            "s.toml:4: subject.iliac_crest_height_mm: 1000 mm is not at least 250 mm below c7_height_mm (1100 mm)");
+  auto above = parse_config("[subject]\nc7_height_mm = 1600\nstature_mm = 1650\n", "s.toml");
+  ASSERT_FALSE(above);
+  EXPECT_EQ(above.error().message,
+            "s.toml:2: subject.c7_height_mm: 1600 mm is not at least 100 mm below the stature (1650 mm)");
+  EXPECT_TRUE(reloadable_key("subject.c7_height_mm"));
+  EXPECT_TRUE(reloadable_key("subject.iliac_crest_height_mm"));
+  auto none = parse_config("[subject]\nstature_mm = 1755\n", "s.toml");
+  EXPECT_EQ(changed_keys(*none, *known),
+            (std::vector<std::string>{"subject.c7_height_mm", "subject.iliac_crest_height_mm"}));
 }
 
 }  // namespace

@@ -301,10 +301,18 @@ TEST_F(DaemonE2E, AKnownWorkerFromConfigCommandAndReloadReachesTheStream) {
       << "a rejected command changes nothing";
 
   std::string text = test::read_file(config);
-  text.replace(text.find("mass_kg = 70\n"), 13, "mass_kg = 70\nstature_mm = 1760\n");
+  text.replace(text.find("mass_kg = 70\n"), 13,
+               "mass_kg = 70\nstature_mm = 1760\nc7_height_mm = 1540\niliac_crest_height_mm = 1060\n");
   test::write_file(config, text);
   daemon.signal(SIGHUP);
-  EXPECT_TRUE(read_until(*client, [](const auto& j) { return worker_is(j, 1760, "given", 70, "given"); }, wait))
+  // The measured landmarks placed the spine and the stream says so.
+  EXPECT_TRUE(read_until(
+      *client,
+      [](const auto& j) {
+        return worker_is(j, 1760, "given", 70, "given") && j.at("worker").value("c7_height_mm", 0.0) == 1540 &&
+               j.at("worker").value("iliac_crest_height_mm", 0.0) == 1060;
+      },
+      wait))
       << daemon.log();
   daemon.signal(SIGTERM);
   EXPECT_EQ(daemon.wait_exit(test::scaled(2s)), 0) << daemon.log();
@@ -313,7 +321,10 @@ TEST_F(DaemonE2E, AKnownWorkerFromConfigCommandAndReloadReachesTheStream) {
   const std::string log = daemon.log();
   EXPECT_NE(log.find("worker set by client #1 (unix): stature 1780 mm, mass 64.0 kg"), std::string::npos) << log;
   EXPECT_NE(log.find("stature_mm: 3000 is out of range"), std::string::npos) << log;
-  EXPECT_NE(log.find("worker set by the reloaded configuration: stature 1760 mm, mass 70.0 kg"), std::string::npos) << log;
+  EXPECT_NE(log.find("worker set by the reloaded configuration: stature 1760 mm, mass 70.0 kg, C7 at 1540 mm, "
+                     "iliac crest at 1060 mm"),
+            std::string::npos)
+      << log;
 }
 
 // sd_notify through a datagram socket standing in for systemd's.

@@ -70,7 +70,7 @@ TEST(PostureJson, OutputValidatesAgainstSchema) {
   full.ergonomics = Ergonomics{12.0, 3.0, 1.0, 2, {{"iso11226_trunk_inclination", "ok", 12.0, 0.0}}};
   full.fit.xor_frontal_px = 120;
   full.fit.candidates = 80;
-  full.worker = WorkerBody{1755.0, BodyValueSource::Measured, 82.1, BodyValueSource::Estimated, 1550.0};
+  full.worker = WorkerBody{1755.0, BodyValueSource::Measured, 82.1, BodyValueSource::Estimated, 1550.0, 1500.0, 1040.0};
   Posture lost;
   lost.seq = 18;
   lost.state = TrackingState::Lost;

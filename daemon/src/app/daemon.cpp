@@ -212,8 +212,11 @@ struct Daemon::Impl {
   }
 
   static std::string describe(const KnownWorker& w) {
-    return fmt::format("stature {}, mass {}", w.stature_mm ? fmt::format("{:.0f} mm", *w.stature_mm) : "not known",
-                       w.mass_kg ? fmt::format("{:.1f} kg", *w.mass_kg) : "not known");
+    std::string text = fmt::format("stature {}, mass {}", w.stature_mm ? fmt::format("{:.0f} mm", *w.stature_mm) : "not known",
+                                   w.mass_kg ? fmt::format("{:.1f} kg", *w.mass_kg) : "not known");
+    if (w.c7_height_mm) text += fmt::format(", C7 at {:.0f} mm", *w.c7_height_mm);
+    if (w.iliac_crest_height_mm) text += fmt::format(", iliac crest at {:.0f} mm", *w.iliac_crest_height_mm);
+    return text;
   }
 
   void set_worker(const KnownWorker& worker, std::string_view by) {
@@ -305,9 +308,11 @@ struct Daemon::Impl {
       publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name, hello_warnings));
     config.station = fresh->station;
     config.log = fresh->log;
-    if (fresh->subject.stature_mm != config.subject.stature_mm || fresh->subject.mass_kg != config.subject.mass_kg) {
+    if (known_worker(fresh->subject) != known_worker(config.subject)) {
       config.subject.stature_mm = fresh->subject.stature_mm;
       config.subject.mass_kg = fresh->subject.mass_kg;
+      config.subject.c7_height_mm = fresh->subject.c7_height_mm;
+      config.subject.iliac_crest_height_mm = fresh->subject.iliac_crest_height_mm;
       set_worker(estimator_options(config).worker, "the reloaded configuration");
     }
     if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());

@@ -1,5 +1,8 @@
 #include "spinewatch/daemon/client_command.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -11,13 +14,17 @@ using ojson = nlohmann::ordered_json;  // replies keep "class" first
 
 constexpr int kReplyVersion = 1;
 
-// The same bounds as the config keys subject.stature_mm and subject.mass_kg.
+// The same bounds as the config keys subject.stature_mm, mass_kg,
+// c7_height_mm and iliac_crest_height_mm.
 struct Bounds {
   const char* key;
   double min, max;
 };
 constexpr Bounds kStature{"stature_mm", 1000, 2300};
 constexpr Bounds kMass{"mass_kg", 20, 250};
+constexpr Bounds kC7{"c7_height_mm", 800, 2000};
+constexpr Bounds kCrest{"iliac_crest_height_mm", 500, 1400};
+constexpr Bounds kFields[] = {kStature, kMass, kC7, kCrest};
 
 Result<std::optional<double>> optional_number(const json& j, const Bounds& b) {
   const auto it = j.find(b.key);
@@ -29,8 +36,13 @@ Result<std::optional<double>> optional_number(const json& j, const Bounds& b) {
 }
 
 ojson worker_json(const KnownWorker& w) {
-  return {{"stature_mm", w.stature_mm ? ojson(*w.stature_mm) : ojson(nullptr)},
-          {"mass_kg", w.mass_kg ? ojson(*w.mass_kg) : ojson(nullptr)}};
+  auto value = [](const std::optional<double>& v) { return v ? ojson(*v) : ojson(nullptr); };
+  ojson j = {{"stature_mm", value(w.stature_mm)}, {"mass_kg", value(w.mass_kg)}};
+  // The landmarks only when given: replies to clients that never send them
+  // stay as they were.
+  if (w.c7_height_mm) j["c7_height_mm"] = *w.c7_height_mm;
+  if (w.iliac_crest_height_mm) j["iliac_crest_height_mm"] = *w.iliac_crest_height_mm;
+  return j;
 }
 
 }  // namespace
@@ -45,14 +57,17 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   if (*command != "set_worker")
     return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)", command->get<std::string>())};
   for (const auto& [key, value] : j.items())
-    if (key != "command" && key != kStature.key && key != kMass.key)
-      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg)", key)};
+    if (key != "command" && std::none_of(std::begin(kFields), std::end(kFields), [&](const Bounds& b) { return key == b.key; }))
+      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm)", key)};
   SetWorkerCommand c;
-  auto stature = optional_number(j, kStature);
-  if (!stature) return stature.error();
-  auto mass = optional_number(j, kMass);
-  if (!mass) return mass.error();
-  c.worker = {*stature, *mass};
+  std::optional<double>* fields[] = {&c.worker.stature_mm, &c.worker.mass_kg, &c.worker.c7_height_mm,
+                                     &c.worker.iliac_crest_height_mm};
+  for (std::size_t i = 0; i < std::size(kFields); ++i) {
+    auto v = optional_number(j, kFields[i]);
+    if (!v) return v.error();
+    *fields[i] = *v;
+  }
+  if (const WorkerCheck check = check_known_worker(c.worker); !check.ok) return Error{check.message};
   return c;
 }
 

@@ -37,7 +37,8 @@ const std::vector<Field>& fields() {
       SW_FIELD(silhouette, relearn_empty_s), SW_FIELD(silhouette, bootstrap),
       SW_FIELD(cvsm, model), SW_FIELD(cvsm, subject_frames), SW_FIELD(cvsm, lost_cost),
       SW_FIELD(spine, model), SW_FIELD(spine, voxel_mm), SW_FIELD(spine, substeps),
-      SW_FIELD(subject, stature_mm), SW_FIELD(subject, mass_kg), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),
+      SW_FIELD(subject, stature_mm), SW_FIELD(subject, mass_kg), SW_FIELD(subject, c7_height_mm),
+      SW_FIELD(subject, iliac_crest_height_mm), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),
       SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
       SW_FIELD(publish, max_clients),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
@@ -58,7 +59,7 @@ std::vector<std::string> changed_keys(const Config& before, const Config& after)
 
 bool reloadable_key(const std::string& key) {
   return key == "station.name" || key == "log.level" || key == "log.status_interval_s" || key == "subject.stature_mm" ||
-         key == "subject.mass_kg";
+         key == "subject.mass_kg" || key == "subject.c7_height_mm" || key == "subject.iliac_crest_height_mm";
 }
 
 std::vector<std::string> compared_keys() {

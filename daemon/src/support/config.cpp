@@ -131,6 +131,9 @@ const std::vector<Key>& keys() {
 
       optional_double_key("subject.stature_mm", [](Config& c) -> double& { return c.subject.stature_mm; }, {1000.0, 2300.0}),
       optional_double_key("subject.mass_kg", [](Config& c) -> double& { return c.subject.mass_kg; }, {20.0, 250.0}),
+      optional_double_key("subject.c7_height_mm", [](Config& c) -> double& { return c.subject.c7_height_mm; }, {800.0, 2000.0}),
+      optional_double_key("subject.iliac_crest_height_mm", [](Config& c) -> double& { return c.subject.iliac_crest_height_mm; },
+                          {500.0, 1400.0}),
       double_key("subject.height_mm", [](Config& c) -> double& { return c.subject.height_mm; }, {1000.0, 2300.0}),
       string_key("subject.spine_placement", [](Config& c) -> std::string& { return c.subject.spine_placement; },
                  {"measured", "generic"}),
@@ -197,7 +200,21 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
         return Error{fmt::format("{}: {}: {}", at(source, value), name, *problem)};
     }
   }
+  // The worker's values taken together (the landmarks below the stature,
+  // the crest below C7): an error at the key the check names.
+  if (const WorkerCheck check = check_known_worker(known_worker(config.subject)); !check.ok) {
+    const std::string key = check.message.substr(0, check.message.find(':'));
+    const toml::node* node = root["subject"][key].node();
+    return Error{node ? fmt::format("{}: subject.{}", at(source, *node), check.message)
+                      : fmt::format("{}: subject.{}", source, check.message)};
+  }
   return config;
+}
+
+KnownWorker known_worker(const Config::Subject& s) {
+  // 0 = not known, for every key of the worker.
+  auto known = [](double v) { return v > 0 ? std::optional<double>(v) : std::nullopt; };
+  return {known(s.stature_mm), known(s.mass_kg), known(s.c7_height_mm), known(s.iliac_crest_height_mm)};
 }
 
 Result<Config> load_config(const std::filesystem::path& path) {

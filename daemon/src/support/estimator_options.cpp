@@ -24,8 +24,7 @@ EstimatorOptions estimator_options(const Config& c) {
   o.lost_cost = c.cvsm.lost_cost;
   o.substeps = c.spine.substeps;
   o.voxel_mm = c.spine.voxel_mm;
-  if (c.subject.stature_mm > 0) o.worker.stature_mm = c.subject.stature_mm;
-  if (c.subject.mass_kg > 0) o.worker.mass_kg = c.subject.mass_kg;
+  o.worker = known_worker(c.subject);
   o.height_mm = c.subject.height_mm;
   // The key's values are checked when the file is parsed.
   if (auto mode = parse_spine_placement_mode(c.subject.spine_placement)) o.spine_placement = *mode;

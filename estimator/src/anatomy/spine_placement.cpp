@@ -29,6 +29,14 @@ SpinePlacement SpinePlacementModel::predict(double stature_mm, std::optional<Sex
           iliocristale_.predict(x) - rule_.l5_below_iliocristale_mm(sex)};
 }
 
+SpinePlacement SpinePlacementModel::place(double stature_mm, std::optional<double> c7_height_mm,
+                                          std::optional<double> iliac_crest_height_mm, std::optional<Sex> sex) const {
+  SpinePlacement p = predict(stature_mm, sex);
+  if (c7_height_mm) p.t1_mm = *c7_height_mm - rule_.t1_below_cervicale_mm;
+  if (iliac_crest_height_mm) p.l5_mm = *iliac_crest_height_mm - rule_.l5_below_iliocristale_mm(sex);
+  return p;
+}
+
 const SpinePlacementModel& default_spine_placement() {
   static const SpinePlacementModel model = [] {
     auto parsed = parse_anthropometry(embedded_anthropometry_toml(), "config/anthropometry.toml");

@@ -131,7 +131,7 @@ std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
     h.stature_mm = *s.given_stature_mm;
   else
     h.stature_mm = standing && s.measured_crown_mm > 0 ? s.measured_crown_mm : s.shape.height_mm;
-  h.standing = default_spine_placement().predict(h.stature_mm);
+  h.standing = default_spine_placement().place(h.stature_mm, s.given_c7_mm, s.given_crest_mm);
   // Seated, L5 hangs from the crown by its standing distance below it
   // (the crown as measured: the fitted one trades against the head's shape).
   const double crown = s.measured_crown_mm > 0 ? s.measured_crown_mm : s.crown_y;
@@ -181,6 +181,8 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
   s.given_stature_mm = options.stature_mm;
+  s.given_c7_mm = options.c7_height_mm;
+  s.given_crest_mm = options.iliac_crest_height_mm;
   if (s.given_stature_mm)
     s.shape.height_mm = *s.given_stature_mm;
   else if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
@@ -258,6 +260,10 @@ bool check_given_stature(SubjectEstimate& s) {
   if (s.measured_crown_mm - *s.given_stature_mm <= kStatureMismatchMm) return false;
   s.rejected_stature_mm = s.given_stature_mm;
   s.given_stature_mm.reset();
+  // The landmarks were measured on the same person as the stature: not the
+  // one in view.
+  s.given_c7_mm.reset();
+  s.given_crest_mm.reset();
   s.shape.height_mm = std::clamp(s.measured_crown_mm / kCrown, 1300.0, 2200.0);
   return true;
 }

@@ -22,6 +22,9 @@ struct SubjectEstimate {
   // Given for this worker: the stature, standing or seated, and (with the
   // generic placement) the model's height, neither then searched.
   std::optional<double> given_stature_mm;
+  // Given skin landmarks (C7, iliac crest): they place T1 and L5 instead of
+  // the stature regressions; set aside with a rejected stature.
+  std::optional<double> given_c7_mm, given_crest_mm;
   // A given stature the standing silhouettes contradicted (see
   // check_given_stature): set aside, and the stature measured instead.
   std::optional<double> rejected_stature_mm;

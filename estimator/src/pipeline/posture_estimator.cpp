@@ -51,6 +51,8 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.min_silhouette_px = o.min_blob_px;
   c.spine_placement = o.spine_placement;
   c.stature_mm = o.worker.stature_mm;
+  c.c7_height_mm = o.worker.c7_height_mm;
+  c.iliac_crest_height_mm = o.worker.iliac_crest_height_mm;
   c.model = o.cvsm_model;
   c.spine = o.spine_model;
   return c;
@@ -80,6 +82,12 @@ struct PostureEstimator::Impl {
     if (!given.stature_mm && !subject) return std::nullopt;
     WorkerBody b;
     b.rejected_stature_mm = tracker.rejected_stature_mm();
+    // The landmarks place the spine with the measured placement, unless the
+    // stature given with them was someone else's.
+    if (options.spine_placement == SpinePlacementMode::Measured && !(b.rejected_stature_mm && subject)) {
+      b.c7_height_mm = given.c7_height_mm;
+      b.iliac_crest_height_mm = given.iliac_crest_height_mm;
+    }
     if (given.stature_mm && !(b.rejected_stature_mm && subject)) {
       b.stature_mm = *given.stature_mm;
       b.stature_source = BodyValueSource::Given;

@@ -127,6 +127,8 @@ ojson to_json(const Posture& p) {
                    {"mass_kg", round_to(w.mass_kg, 0.1)},
                    {"mass", to_string(w.mass_source)}};
     if (w.rejected_stature_mm) j["worker"]["rejected_stature_mm"] = round_to(*w.rejected_stature_mm, 0.1);
+    if (w.c7_height_mm) j["worker"]["c7_height_mm"] = round_to(*w.c7_height_mm, 0.1);
+    if (w.iliac_crest_height_mm) j["worker"]["iliac_crest_height_mm"] = round_to(*w.iliac_crest_height_mm, 0.1);
   }
   return j;
 }

@@ -30,7 +30,11 @@ Result<Run> run_subject(const anthropometry::AnsurSubject& row, const std::strin
   run.bmi = bmi(row);
   run.scenario = scenario;
   EstimatorOptions estimator_options = o.estimator;
-  if (o.known_worker) estimator_options.worker = {row.stature_mm, row.mass_kg};
+  if (o.known_worker || o.known_landmarks) estimator_options.worker = {row.stature_mm, row.mass_kg};
+  if (o.known_landmarks) {
+    estimator_options.worker.c7_height_mm = row.cervicale_height_mm;
+    estimator_options.worker.iliac_crest_height_mm = row.iliocristale_height_mm;
+  }
   PostureEstimator estimator(seq->options().rig, estimator_options);
   for (int i = 0; i < seq->frame_count(); ++i) {
     const phantom::PhantomFrame f = seq->render(i);

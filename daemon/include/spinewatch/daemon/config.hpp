@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "spinewatch/estimator/anatomy/worker.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {
@@ -80,6 +81,10 @@ struct Config {
     // estimated from the silhouettes, the mass estimated from the stature).
     double stature_mm = 0;
     double mass_kg = 0;
+    // Skin landmarks measured on the worker at set-up (0 = not known): they
+    // place T1 and L5 (docs/anthropometry.md, "A known worker").
+    double c7_height_mm = 0;
+    double iliac_crest_height_mm = 0;
     double height_mm = 1750.0;  // the starting guess where the stature is not seen
     // Where the spine sits in the measured body: "measured" (regressions on
     // ANSUR II, docs/anthropometry.md) or "generic" (fixed fractions of height).
@@ -111,6 +116,8 @@ struct Config {
 // Parses TOML text; `source` names it in error messages ("FILE:LINE: key: problem").
 Result<Config> parse_config(std::string_view toml_text, std::string_view source);
 Result<Config> load_config(const std::filesystem::path& path);
+// The [subject] keys of the worker (0 = not known).
+KnownWorker known_worker(const Config::Subject& subject);
 
 // Every key the loader knows, "section.key", in declaration order.
 std::vector<std::string> config_keys();

@@ -61,6 +61,11 @@ class SpinePlacementModel {
   static Result<SpinePlacementModel> from(const AnthropometryModel& model, const SkinToVertebra& rule = {});
 
   SpinePlacement predict(double stature_mm, std::optional<Sex> sex = std::nullopt) const;
+  // Where skin landmarks were measured on this person (a known worker's
+  // C7 and iliac-crest heights), each places its end of the spine by the
+  // skin-to-vertebra rule; an end without one is predicted from the stature.
+  SpinePlacement place(double stature_mm, std::optional<double> c7_height_mm,
+                       std::optional<double> iliac_crest_height_mm, std::optional<Sex> sex = std::nullopt) const;
   const LinearRegression& cervicale() const { return cervicale_; }
   const LinearRegression& iliocristale() const { return iliocristale_; }
 

@@ -5,6 +5,7 @@
 // The posture stream says which (the "worker" field).
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace spinewatch {
@@ -12,8 +13,28 @@ namespace spinewatch {
 struct KnownWorker {
   std::optional<double> stature_mm;  // barefoot, as an anthropometer measures it
   std::optional<double> mass_kg;
+  // Skin landmarks of the spine, standing barefoot, measured once at the
+  // station's set-up with a tape or an anthropometer, as ANSUR II's
+  // measurers took them: the C7 spinous process tip (`cervicaleheight`)
+  // and the top of the iliac crest on the side (`iliocristaleheight`).
+  // No outline shows them: from the silhouettes alone they are predicted
+  // within 11 mm (C7) and 23 mm (crest) SD, and that spread is most of
+  // the station's error on measured people (docs/anthropometry.md, "What
+  // the outline cannot tell"). Given, they place T1 and L5 directly.
+  // (Initialised so that {stature, mass} still spells a worker without them.)
+  std::optional<double> c7_height_mm = std::nullopt;
+  std::optional<double> iliac_crest_height_mm = std::nullopt;
   bool operator==(const KnownWorker&) const = default;
 };
+
+// A known worker's values taken together: the landmarks below the stature,
+// the crest below C7 by at least a trunk, each within what adults measure.
+// An error names the field and why.
+struct WorkerCheck {
+  bool ok = true;
+  std::string message;
+};
+WorkerCheck check_known_worker(const KnownWorker& worker);
 
 // Where a body value in the stream comes from.
 enum class BodyValueSource : std::uint8_t {
@@ -33,6 +54,11 @@ struct WorkerBody {
   // then the measured one. Most likely the wrong worker was set. (A body
   // shorter than given may be bending: that is not a contradiction.)
   std::optional<double> rejected_stature_mm;
+  // The given skin landmarks that placed the spine (absent: the spine was
+  // placed from the stature by the regressions). Set aside with a
+  // rejected stature: they were measured on the same, other, person.
+  std::optional<double> c7_height_mm = std::nullopt;
+  std::optional<double> iliac_crest_height_mm = std::nullopt;
 };
 
 // How far the standing top of the head may rise above a given stature

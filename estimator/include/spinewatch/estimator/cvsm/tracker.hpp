@@ -26,6 +26,9 @@ struct CvsmOptions {
   // The worker's stature when given (anatomy/worker.hpp): it replaces the
   // measured crown standing and the height search seated.
   std::optional<double> stature_mm;
+  // The worker's measured C7 and iliac-crest heights when given: they place
+  // T1 and L5 (measured placement only; anatomy/worker.hpp).
+  std::optional<double> c7_height_mm, iliac_crest_height_mm;
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   std::optional<SpineSpec> spine;         // nothing: the generic spine built in

@@ -25,6 +25,9 @@ struct SweepOptions {
   // Each subject's own stature and mass given to the estimator, as for a
   // known worker (config [subject] or the set_worker command).
   bool known_worker = false;
+  // Each subject's measured C7 and iliac-crest heights given too, as a
+  // station's set-up measures them with a tape (KnownWorker).
+  bool known_landmarks = false;
   std::uint32_t seed = 1;
 };
 
