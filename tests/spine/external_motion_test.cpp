@@ -58,11 +58,12 @@ Interior interior_of(const DeformReport& r) {
   return out;
 }
 
-Interior run(const test::TruthSubject& subject, const Scenario& sc, const PoseFn& pose, int frames) {
+Interior run(const test::TruthSubject& subject, const Scenario& sc, const PoseFn& pose, int frames,
+             const DynamicsOptions& options = {}) {
   SpineModelOptions o;
   o.voxel_mm = 2.0;
   const SpineModel model = SpineModel::from_subject(subject.spine, o);
-  SpineDynamics dyn(model);
+  SpineDynamics dyn(model, options);
   std::vector<Posture> truth, estimated;
   for (int f = 0; f < frames; ++f) {
     const auto a = sc.angles(double(f) / frames);
@@ -126,6 +127,51 @@ TEST(ExternalMotion, Table1OnOpenSimShares) {
       EXPECT_GT(ext.max, 1.0) << sc.name << " " << height;  // a real difference is being measured
       EXPECT_LE(own.mean, 2.5) << sc.name << " " << height;
       EXPECT_LE(own.max, 7.5) << sc.name << " " << height;
+    }
+  }
+}
+
+
+// "Build from one, tune on the build side, report on the other": per-joint
+// factors fitted by fit-spine's library function on the range-of-motion
+// description (the phantom's motion, distribute(), on the generic spine
+// without any subject variation) and then scored on the OpenSim shares
+// with the varied subjects, which the fit never saw. The shipped model
+// applies no such factor (docs/spine-model.md §2); this shows what the
+// optional tool gives and that it does not merely learn its own data.
+TEST(ExternalMotion, FactorsFittedOnTheRangeOfMotionDescriptionCarryOverToOpenSim) {
+  const auto generic = test::make_subject(1750, 0.0);  // wobble 0: the generic spine, every joint factor 1
+  SpineModelOptions o;
+  o.voxel_mm = 2.0;
+  const SpineModel model = SpineModel::from_subject(generic.spine, o);
+  std::vector<std::vector<Posture>> build;
+  for (const Scenario& sc : kScenarios) {
+    std::vector<Posture> seq;
+    for (int f = 0; f < 16; ++f) {
+      const auto a = sc.angles(f / 16.0);
+      seq.push_back(test::truth_posture(generic, a[0], a[1], a[2], std::uint64_t(f)));
+    }
+    build.push_back(seq);
+  }
+  FitOptions fit;
+  fit.rounds = 2;
+  fit.max_frames = 6;
+  const FitResult r = fit_bending_scales(model, DynamicsOptions{}, build, fit);
+  EXPECT_LT(r.final_error_mm, 0.9 * r.initial_error_mm);
+  DynamicsOptions fitted;
+  fitted.bending_scale = r.scale;
+  std::string factors;
+  for (double k : r.scale) factors += fmt::format(" {:.2f}", k);
+  std::cout << fmt::format("fitted on the range-of-motion description: {:.2f} -> {:.2f} mm; factors T1-T2…L4-L5:{}\n",
+                           r.initial_error_mm, r.final_error_mm, factors);
+  for (const Scenario& sc : kScenarios) {
+    for (auto [height, seed] : {std::pair{1600.0, 1.3}, std::pair{1900.0, 0.7}}) {
+      const Interior e = run(test::make_subject(height, seed), sc, test::opensim_posture, 16, fitted);
+      std::cout << fmt::format("{:<15} {:>5.0f}    OpenSim shares with fitted factors: {:5.2f} / {:5.2f} ({})\n",
+                               sc.name, height, e.mean, e.max, kVertebraNames[e.worst_level]);
+      // Issue 16's target.
+      EXPECT_LE(e.mean, 4.0) << sc.name << " " << height;
+      EXPECT_LE(e.max, 6.8) << sc.name << " " << height;
     }
   }
 }
