@@ -27,7 +27,8 @@ Status check_keys(const toml::table& t, std::string_view source, std::string_vie
 }  // namespace
 
 Eigen::Vector3d JointStiffness::nm_per_rad() const {
-  return moment_nm * Eigen::Vector3d(lateral_deg * kDeg, axial_deg * kDeg, 0.5 * flexion_extension_deg * kDeg).cwiseInverse();
+  const Eigen::Vector3d range_rad(lateral_deg * kDeg, axial_deg * kDeg, 0.5 * flexion_extension_deg * kDeg);
+  return moment_nm * range_rad.cwiseInverse();
 }
 
 Result<JointStiffnessTable> parse_joint_stiffness(std::string_view text, std::string_view source) {
@@ -42,7 +43,8 @@ Result<JointStiffnessTable> parse_joint_stiffness(std::string_view text, std::st
     const toml::table* j = (*joints)[i].as_table();
     const std::string ctx = fmt::format("joint[{}]", i);
     if (!j) return Error{fmt::format("{}: {}: expected a table", source, ctx)};
-    if (auto s = check_keys(*j, source, ctx, {"name", "moment_nm", "flexion_extension_deg", "lateral_deg", "axial_deg", "source"});
+    if (auto s = check_keys(*j, source, ctx,
+                            {"name", "moment_nm", "flexion_extension_deg", "lateral_deg", "axial_deg", "source"});
         !s)
       return s.error();
     JointStiffness& out = table[i];
