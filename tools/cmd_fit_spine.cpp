@@ -67,7 +67,10 @@ void add_fit_spine_command(CLI::App& app, ExitCode& exit_code) {
     int rounds = 3, max_frames = 12;
   };
   auto opts = std::make_shared<Options>();
-  auto* cmd = app.add_subcommand("fit-spine", "Fit per-joint bending-stiffness factors to ground-truth sequences");
+  auto* cmd = app.add_subcommand(
+      "fit-spine",
+      "Fit per-joint bending-stiffness factors to ground-truth sequences (optional: only deform --stiffness "
+      "applies them; the shipped stiffness is config/spine-stiffness.toml)");
   cmd->add_option("--truth", opts->truth, "ground-truth posture stream (repeatable)")->required();
   cmd->add_option("--subject", opts->subject, "SUBJECT.json of the sequences' subject (default: generic model)");
   cmd->add_option("--height", opts->height_mm, "height of the generic model, mm")->check(CLI::Range(1000.0, 2300.0));

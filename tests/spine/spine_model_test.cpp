@@ -4,9 +4,13 @@
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include "spine_truth.hpp"
+#include "spinewatch/estimator/anatomy/kinematics.hpp"
+#include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/spine_model.hpp"
+#include "spinewatch/estimator/spine/stiffness_fit.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {
@@ -118,9 +122,12 @@ TEST(SpineModel, DiscSpringsAreSymmetricAboutTheDiscCentre) {
     // Attachments balance about the centre: the upper set's mean is as far
     // above it as the lower set's is below.
     EXPECT_LT((sum_upper + sum_lower).norm(), 1e-9) << j;
-    // Stiffer joints where the range of motion is smaller.
-    const JointSpec& js = model.spec().joints[j];
-    EXPECT_NEAR(d.range_stiffness_nm_per_rad.x() * js.lateral_deg * M_PI / 180, 7.5, 1e-9);
+    // The joint's stiffness is the published test moment over the range it
+    // produced (config/spine-stiffness.toml), about each axis.
+    const JointStiffness& js = generic_joint_stiffness()[j];
+    EXPECT_NEAR(d.range_stiffness_nm_per_rad.x() * js.lateral_deg * M_PI / 180, js.moment_nm, 1e-9);
+    EXPECT_NEAR(d.range_stiffness_nm_per_rad.y() * js.axial_deg * M_PI / 180, js.moment_nm, 1e-9);
+    EXPECT_NEAR(d.range_stiffness_nm_per_rad.z() * 0.5 * js.flexion_extension_deg * M_PI / 180, js.moment_nm, 1e-9);
     EXPECT_GT(d.rotational_spring_nm_per_rad.minCoeff(), 0);
   }
 }
@@ -160,6 +167,73 @@ TEST(Subject, ErrorsNameTheFileAndTheField) {
   auto missing = SpineModel::from_subject_file("/nonexistent/subject.json");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/nonexistent/subject.json"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+TEST(JointStiffness, EveryJointComesFromANamedPublishedSource) {
+  const JointStiffnessTable& t = generic_joint_stiffness();
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    EXPECT_EQ(t[j].name, fmt::format("{}-{}", kVertebraNames[j], kVertebraNames[j + 1]));
+    EXPECT_TRUE(t[j].source == "W" || t[j].source == "Y" || t[j].source == "interpolated") << t[j].source;
+  }
+  // Yamamoto et al. 1989, L1-2: 4.9° lateral bending at 10 N·m.
+  EXPECT_NEAR(t[12].nm_per_rad().x(), 10.0 / (4.9 * M_PI / 180), 1e-9);
+  EXPECT_EQ(t[12].source, "Y");
+  // Wilke et al. 2017, T1-T2: 14° flexion + extension at ±7.5 N·m.
+  EXPECT_NEAR(t[0].nm_per_rad().z(), 7.5 / (7.0 * M_PI / 180), 1e-9);
+}
+
+TEST(JointStiffness, BadFilesNameFileLineAndKey) {
+  std::string text(joint_stiffness_toml());
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return parse_joint_stiffness(t, "stiff.toml");
+  };
+  auto unknown = with("source = \"W\"", "source = \"W\"\nstiffness = 3.0");
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.error().message.find("stiff.toml:"), std::string::npos) << unknown.error().message;
+  EXPECT_NE(unknown.error().message.find("joint[0].stiffness: unknown key"), std::string::npos)
+      << unknown.error().message;
+  auto unsourced = with("source = \"W\"", "");
+  ASSERT_FALSE(unsourced);
+  EXPECT_NE(unsourced.error().message.find("joint[0].source"), std::string::npos) << unsourced.error().message;
+  auto misnamed = with("name = \"T2-T3\"", "name = \"T3-T2\"");
+  ASSERT_FALSE(misnamed);
+  EXPECT_NE(misnamed.error().message.find("joint[1].name: expected \"T2-T3\""), std::string::npos)
+      << misnamed.error().message;
+  auto negative = with("lateral_deg = 4.9", "lateral_deg = -4.9");
+  ASSERT_FALSE(negative);
+  EXPECT_NE(negative.error().message.find("joint[12].lateral_deg"), std::string::npos) << negative.error().message;
+}
+
+TEST(JointStiffness, TheTableDecidesHowABendSharesOut) {
+  // The same lateral bend of the ends, once with the shipped table and once
+  // with the lumbar joints four times softer laterally: the soft lumbar
+  // joints take a larger part of the bend.
+  const auto subject = test::make_subject(1750, 1.0);
+  const Posture bent = test::truth_posture(subject, 0, 20, 0, 0);
+  auto lumbar_lateral = [&](const JointStiffnessTable& table) {
+    SpineModelOptions o;
+    o.voxel_mm = 2.0;
+    o.stiffness = table;
+    const SpineModel model = SpineModel::from_subject(subject.spine, o);
+    SpineDynamics dyn(model);
+    EXPECT_TRUE(dyn.settle(*targets_of(bent)).converged);
+    const auto angles = intervertebral_angles(dyn.pose());
+    double sum = 0;
+    for (std::size_t j = 12; j < kJointCount; ++j) sum += std::abs(angles[j].lateral);
+    return sum;
+  };
+  JointStiffnessTable soft = generic_joint_stiffness();
+  for (std::size_t j = 12; j < kJointCount; ++j) soft[j].lateral_deg *= 4;
+  const double shipped = lumbar_lateral(generic_joint_stiffness());
+  EXPECT_GT(lumbar_lateral(soft), shipped + 2.0) << shipped;
 }
 
 }  // namespace

@@ -44,14 +44,7 @@ inline TruthSubject make_subject(double height_mm, double seed) {
   return s;
 }
 
-inline Posture truth_posture(const TruthSubject& s, double flexion_deg, double lateral_deg, double twist_deg,
-                             std::uint64_t seq) {
-  SegmentalMotion m = distribute(generic_spine_spec(), flexion_deg, lateral_deg, twist_deg);
-  for (std::size_t j = 0; j < kJointCount; ++j) {
-    m.joints[j].flexion *= s.joint_factor[j];
-    m.joints[j].lateral *= s.joint_factor[j];
-    m.joints[j].twist *= s.joint_factor[j];
-  }
+inline Posture posture_of(const TruthSubject& s, const SegmentalMotion& m, std::uint64_t seq) {
   Posture p;
   p.seq = seq;
   p.t_ns = std::int64_t(seq) * 33'333'333;
@@ -62,6 +55,17 @@ inline Posture truth_posture(const TruthSubject& s, double flexion_deg, double l
   p.neck_dir = (*p.vertebrae)[kNeckIndex].q * Eigen::Vector3d::UnitY();
   p.waist_dir = (*p.vertebrae)[kWaistIndex].q * Eigen::Vector3d::UnitY();
   return p;
+}
+
+inline Posture truth_posture(const TruthSubject& s, double flexion_deg, double lateral_deg, double twist_deg,
+                             std::uint64_t seq) {
+  SegmentalMotion m = distribute(generic_spine_spec(), flexion_deg, lateral_deg, twist_deg);
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    m.joints[j].flexion *= s.joint_factor[j];
+    m.joints[j].lateral *= s.joint_factor[j];
+    m.joints[j].twist *= s.joint_factor[j];
+  }
+  return posture_of(s, m, seq);
 }
 
 // Lateral bending 0 → +25° → −25° → 0, or flexion 0 → 50° → 0.

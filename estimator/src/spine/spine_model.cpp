@@ -50,10 +50,9 @@ Disc build_disc(std::size_t j, const VertebraPose& up, const VertebraPose& low, 
   anterior = (anterior - anterior.dot(axis) * axis).normalized();
   const Eigen::Vector3d lateral = anterior.cross(axis);
 
-  // Joint stiffness from its range of motion: the spec's ranges were
-  // measured at ±range_moment (one side; flexion_deg holds F+E together).
-  const Eigen::Vector3d range_rad(js.lateral_deg * kDeg, js.axial_deg * kDeg, 0.5 * js.flexion_deg * kDeg);
-  disc.range_stiffness_nm_per_rad = f.range_moment_nm * range_rad.cwiseInverse();
+  // Joint stiffness from published in-vitro moment–rotation figures
+  // (config/spine-stiffness.toml), not from the ranges the phantom moves by.
+  disc.range_stiffness_nm_per_rad = o.stiffness[j].nm_per_rad();
 
   double a = f.attach_fraction * 0.5 * std::min(du.depth_mm, dl.depth_mm);  // along `anterior`
   double b = f.attach_fraction * 0.5 * std::min(du.width_mm, dl.width_mm);  // along `lateral`

@@ -52,8 +52,7 @@ Result<VertebraGeometry> parse_vertebra_geometry(std::string_view text, std::str
                                      {"max_spring_bending_share", &d.max_spring_bending_share, 0.0, 0.95},
                                      {"damping_n_s_per_m", &d.damping_n_s_per_m, 0, 1e5},
                                      {"tension_ratio", &d.tension_ratio, 0.0, 1},
-                                     {"shear_fraction", &d.shear_fraction, 0.0, 1},
-                                     {"range_moment_nm", &d.range_moment_nm, 0.1, 100}});
+                                     {"shear_fraction", &d.shear_fraction, 0.0, 1}});
       !s)
     return s.error();
   return g;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/estimator/spine/joint_stiffness.hpp"
 #include "spinewatch/estimator/spine/mass_properties.hpp"
 #include "spinewatch/estimator/spine/subject.hpp"
 #include "spinewatch/estimator/spine/vertebra_geometry.hpp"
@@ -18,7 +19,8 @@ namespace spinewatch {
 struct SpineModelOptions {
   double voxel_mm = 1.0;
   VertebraGeometry geometry = generic_vertebra_geometry();
-  SpineSpec spec = generic_spine_spec();  // ranges of motion and disc stiffness per joint
+  SpineSpec spec = generic_spine_spec();  // ranges of motion (the anatomical limits) and disc axial stiffness
+  JointStiffnessTable stiffness = generic_joint_stiffness();  // bending and torsion, published in vitro
 };
 
 struct VertebraBody {
@@ -43,8 +45,8 @@ struct DiscSpring {
 
 struct Disc {  // joint i joins vertebra i (upper) and i + 1 (lower)
   std::vector<DiscSpring> springs;
-  // Total bending stiffness of the joint from its range of motion, about the
-  // lower vertebra's X (lateral bend), Y (twist), Z (flexion) axes, N·m/rad;
+  // Total bending stiffness of the joint (SpineModelOptions::stiffness), about
+  // the lower vertebra's X (lateral bend), Y (twist), Z (flexion) axes, N·m/rad;
   // and the share the rotational spring adds to the springs' own.
   Eigen::Vector3d range_stiffness_nm_per_rad = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotational_spring_nm_per_rad = Eigen::Vector3d::Zero();

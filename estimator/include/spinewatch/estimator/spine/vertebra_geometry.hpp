@@ -26,7 +26,6 @@ struct DiscFigures {
   double damping_n_s_per_m = 1200;
   double tension_ratio = 0.1;
   double shear_fraction = 0.1;
-  double range_moment_nm = 7.5;
 };
 
 struct VertebraGeometry {
