@@ -282,8 +282,12 @@ int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // Standing on the floor with the spine placed for the measured stature,
   // the body does not move up or down: a vertical shift would only trade
   // the template's proportions against the person's and carry the spine
-  // with it.
-  if (s.measured_spine && s.shape.posture == SubjectPosture::Standing) step[6] = 0;
+  // with it. Seated, the spine hangs from the crown the silhouettes
+  // measured (hanging_spine) and is held there for the same reason: left
+  // free, the shift put seated spines 20–40 mm low on ANSUR subjects with
+  // their stature and landmarks given (docs/anthropometry.md).
+  const bool hung_from_crown = s.shape.posture == SubjectPosture::Seated && s.measured_crown_mm > 0;
+  if (s.measured_spine && (s.shape.posture == SubjectPosture::Standing || hung_from_crown)) step[6] = 0;
   // A given stature is the model's height, except standing with the
   // measured placement, where the height is the outline's proportions and
   // the stature places the spine (hanging_spine).
