@@ -3,4 +3,7 @@ embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/segments.cpp
 list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/schultz.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ergonomics.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/exposure_summary.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/exposure_accumulator.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/exposure_json.cpp
   ${CMAKE_CURRENT_BINARY_DIR}/embedded/segments.cpp)
