@@ -16,12 +16,14 @@
 #include "spinewatch/daemon/client_command.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/daemon/source_plan.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
+#include "spinewatch/daemon/summary_stream.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/sync/trigger_controller.hpp"
 
@@ -144,6 +146,7 @@ struct Daemon::Impl {
   std::mutex worker_mutex;
   std::optional<KnownWorker> pending_worker;
   std::unique_ptr<Publisher> publisher;
+  std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
@@ -244,6 +247,7 @@ struct Daemon::Impl {
   void on_posture(const Posture& posture) {
     last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
     publisher->publish(encode_posture_line(posture, stream_stats()));
+    for (auto& line : summaries->add(posture)) publisher->publish(std::move(line));
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
   }
 
@@ -388,6 +392,13 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto estimator_config = load_estimator_options(d.config);
   if (!estimator_config) return estimator_config.error();
   auto estimator = std::make_shared<PostureEstimator>(d.rig, *estimator_config);
+  // Pair times are CLOCK_MONOTONIC from cameras and a paced replay (a fast
+  // replay keeps the recording's): only then do summaries carry UTC times
+  // and whole wall-clock intervals.
+  SummaryLabels labels;
+  labels.station = d.config.station.name;
+  if (plan->kind == SourcePlan::Kind::Cameras || plan->paced) labels.utc_offset_ns = realtime_minus_monotonic_ns();
+  d.summaries = std::make_unique<SummaryStream>(exposure_options(d.config), std::move(labels));
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
@@ -418,6 +429,7 @@ int Daemon::run() {
   d.notifier.stopping();
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
+  for (auto& line : d.summaries->finish()) d.publisher->publish(std::move(line));  // the last partial interval
   d.publisher->stop();
   spdlog::info("stopped in {} ms; {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),

@@ -99,6 +99,11 @@ struct Config {
     bool operator==(const Publish&) const = default;
   } publish;
 
+  struct Exposure {
+    int interval_s = 60;  // length of each exposure summary (docs/exposure.md)
+    bool operator==(const Exposure&) const = default;
+  } exposure;
+
   struct Log {
     std::string level = "info";  // trace | debug | info | warn | error
     int status_interval_s = 60;
