@@ -8,6 +8,8 @@
 namespace spinewatch::report {
 namespace {
 
+constexpr const char* kZoneLabels[] = {"in extension", "at 0–20°", "at 20–60°", "beyond 60°"};
+
 std::string minutes(double s) { return fmt::format("{:.1f} min", s / 60.0); }
 std::string share(double s, double of) { return of > 0 ? fmt::format("{:.1f} %", 100.0 * s / of) : "–"; }
 
@@ -25,7 +27,7 @@ std::string key_rows(const std::vector<const ExposureSummary*>& cols) {
   row("nobody in view (empty)", [](const ExposureSummary& s) { return minutes(s.empty_s); });
   row("no pairs (gap)", [](const ExposureSummary& s) { return minutes(s.gap_s); });
   for (std::size_t z = 0; z < kInclinationZoneCount; ++z)
-    row(fmt::format("trunk {} (ISO 11226)", zone_key(InclinationZone(z))), [z](const ExposureSummary& s) {
+    row(fmt::format("trunk {} (ISO 11226)", kZoneLabels[z]), [z](const ExposureSummary& s) {
       return fmt::format("{} ({})", minutes(s.zone_s[z]), share(s.zone_s[z], s.tracked_s));
     });
   row("side bend beyond 10°: entries per minute", [](const ExposureSummary& s) {
