@@ -4,10 +4,12 @@
 #include <filesystem>
 #include <memory>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
 #include "output_file.hpp"
+#include "spinewatch/daemon/store.hpp"
 #include "spinewatch/report/html_report.hpp"
 
 namespace spinewatch::cli {
@@ -55,11 +57,21 @@ void add_report_command(CLI::App& app, ExitCode& exit_code) {
       if (!p) return exit_code.fail(Error{std::string(name) + " " + p.error().message}, 2);
       *out = *p;
     }
-    if (!opts->db.empty())
-      return exit_code.fail(Error{"--db: this build reads summaries files only (the database is not built yet)"});
-    auto all = read_summary_file(opts->summaries);
-    if (!all) return exit_code.fail(all.error());
-    input.source = "summaries " + opts->summaries;
+    Result<std::vector<LabelledSummary>> all = std::vector<LabelledSummary>{};
+    if (!opts->db.empty()) {
+      input.source = "database " + opts->db;
+      auto lines = read_stored_summary_lines(opts->db);
+      if (!lines) return exit_code.fail(lines.error());
+      for (std::size_t i = 0; i < lines->size(); ++i) {
+        auto s = decode_summary((*lines)[i], fmt::format("{}: summary {}", opts->db, i + 1));
+        if (!s) return exit_code.fail(s.error());
+        all->push_back(std::move(s).value());
+      }
+    } else {
+      input.source = "summaries " + opts->summaries;
+      all = read_summary_file(opts->summaries);
+      if (!all) return exit_code.fail(all.error());
+    }
     auto selected = select(std::move(all).value(), selection);
     if (!selected) return exit_code.fail(selected.error());
     input.intervals = std::move(selected).value();

@@ -22,6 +22,7 @@
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/daemon/source_plan.hpp"
+#include "spinewatch/daemon/store.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
 #include "spinewatch/daemon/summary_stream.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
@@ -147,6 +148,7 @@ struct Daemon::Impl {
   std::optional<KnownWorker> pending_worker;
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
+  std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
@@ -176,6 +178,10 @@ struct Daemon::Impl {
                                    rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
                                    to_string(static_cast<TrackingState>(last_state.load())));
     if (!config.trigger.controller.empty()) text += "; trigger " + trigger_status;
+    if (store) {
+      const StoreStats st = store->stats();
+      text += fmt::format("; storage {} written, {} dropped, {} failed", st.written, st.dropped, st.failed);
+    }
     return text;
   }
 
@@ -246,9 +252,19 @@ struct Daemon::Impl {
   // On the estimator thread: encode and hand over; never blocks.
   void on_posture(const Posture& posture) {
     last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
-    publisher->publish(encode_posture_line(posture, stream_stats()));
-    for (auto& line : summaries->add(posture)) publisher->publish(std::move(line));
+    std::string line = encode_posture_line(posture, stream_stats());
+    if (store && posture.seq % std::uint64_t(config.storage.posture_every) == 0)
+      store->add_posture(posture.seq, posture.t_ns, line);
+    publisher->publish(std::move(line));
+    publish_summaries(summaries->add(posture));
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
+  }
+
+  void publish_summaries(std::vector<SummaryLine> lines) {
+    for (auto& s : lines) {
+      if (store) store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns, "", s.line);
+      publisher->publish(std::move(s.line));
+    }
   }
 
   void on_first_pair() {
@@ -316,6 +332,7 @@ struct Daemon::Impl {
     }
     if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());
     if (!applied.empty()) spdlog::info("reload: applied {}", fmt::join(applied, ", "));
+    if (store && !applied.empty()) store->add_event("info", fmt::format("reload: applied {}", fmt::join(applied, ", ")));
     if (!need_restart.empty())
       spdlog::warn("reload: {} changed; restart the daemon to apply (still running with the old values)",
                    fmt::join(need_restart, ", "));
@@ -399,6 +416,10 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   labels.station = d.config.station.name;
   if (plan->kind == SourcePlan::Kind::Cameras || plan->paced) labels.utc_offset_ns = realtime_minus_monotonic_ns();
   d.summaries = std::make_unique<SummaryStream>(exposure_options(d.config), std::move(labels));
+  if (!d.config.storage.path.empty()) {
+    d.store = std::make_unique<Store>(store_options(d.config));
+    d.store->add_event("info", fmt::format("started: source {}", d.source_name));
+  }
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
@@ -429,8 +450,12 @@ int Daemon::run() {
   d.notifier.stopping();
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
-  for (auto& line : d.summaries->finish()) d.publisher->publish(std::move(line));  // the last partial interval
+  d.publish_summaries(d.summaries->finish());  // the last partial interval
   d.publisher->stop();
+  if (d.store) {
+    d.store->add_event("info", "stopped: " + d.status_text(0.0));
+    d.store->stop();
+  }
   spdlog::info("stopped in {} ms; {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
                d.status_text(0.0));

@@ -21,10 +21,10 @@ std::int64_t clock_ns(clockid_t clock) {
 SummaryStream::SummaryStream(ExposureOptions options, SummaryLabels labels)
     : accumulator_(aligned(std::move(options), labels)), labels_(std::move(labels)) {}
 
-std::vector<std::string> SummaryStream::encode(const std::vector<ExposureSummary>& closed) const {
-  std::vector<std::string> lines;
+std::vector<SummaryLine> SummaryStream::encode(const std::vector<ExposureSummary>& closed) const {
+  std::vector<SummaryLine> lines;
   lines.reserve(closed.size());
-  for (const ExposureSummary& s : closed) lines.push_back(encode_summary(s, labels_));
+  for (const ExposureSummary& s : closed) lines.push_back({s, encode_summary(s, labels_)});
   return lines;
 }
 

@@ -8,4 +8,12 @@ ExposureOptions exposure_options(const Config& config) {
   return o;
 }
 
+StoreOptions store_options(const Config& config) {
+  StoreOptions o;
+  o.path = config.storage.path;
+  o.retention_days = config.storage.retention_days;
+  o.max_size_mb = config.storage.max_size_mb;
+  return o;
+}
+
 }  // namespace spinewatch

@@ -11,17 +11,22 @@
 
 namespace spinewatch {
 
+struct SummaryLine {
+  ExposureSummary summary;
+  std::string line;  // the stream line, without its newline
+};
+
 class SummaryStream {
  public:
   // labels.utc_offset_ns also aligns the intervals to the wall clock.
   SummaryStream(ExposureOptions options, SummaryLabels labels);
 
-  std::vector<std::string> add(const Posture& posture) { return encode(accumulator_.add(posture)); }
+  std::vector<SummaryLine> add(const Posture& posture) { return encode(accumulator_.add(posture)); }
   // The last partial interval and the shift, at stop.
-  std::vector<std::string> finish() { return encode(accumulator_.finish()); }
+  std::vector<SummaryLine> finish() { return encode(accumulator_.finish()); }
 
  private:
-  std::vector<std::string> encode(const std::vector<ExposureSummary>& closed) const;
+  std::vector<SummaryLine> encode(const std::vector<ExposureSummary>& closed) const;
 
   ExposureAccumulator accumulator_;
   SummaryLabels labels_;
