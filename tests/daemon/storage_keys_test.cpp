@@ -5,6 +5,7 @@
 
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
+#include "test_support.hpp"
 
 namespace spinewatch {
 namespace {
@@ -45,6 +46,27 @@ TEST(StorageKeys, BadValuesNameKeyAndLine) {
   auto unknown = parse_config("[storage]\nfile = \"x\"\n", "s.toml");
   ASSERT_FALSE(unknown);
   EXPECT_EQ(unknown.error().message, "s.toml:2: storage.file: unknown key");
+}
+
+TEST(AlertKeys, BuiltInByDefaultNoneWhenOffAndAFileWithItsErrors) {
+  auto c = parse_config("", "s.toml");
+  ASSERT_TRUE(c);
+  EXPECT_EQ(load_alert_rules(*c)->size(), builtin_alert_rules().size());
+  auto off = parse_config("[alerts]\nenabled = false\n", "s.toml");
+  ASSERT_TRUE(off);
+  EXPECT_TRUE(load_alert_rules(*off)->empty());
+  test::TempDir dir;
+  test::write_file(dir / "a.toml", "[[rule]]\nname = \"only\"\ncompression_above_n = 2500\n");
+  auto file = parse_config("[alerts]\nrules = \"" + (dir / "a.toml").string() + "\"\n", "s.toml");
+  ASSERT_TRUE(file);
+  auto rules = load_alert_rules(*file);
+  ASSERT_TRUE(rules) << rules.error().message;
+  ASSERT_EQ(rules->size(), 1u);
+  EXPECT_EQ(rules->at(0).name, "only");
+  test::write_file(dir / "a.toml", "[[rule]]\nname = \"only\"\n");
+  EXPECT_NE(load_alert_rules(*file).error().message.find("a.toml:1: rule[0]: names no condition"), std::string::npos);
+  auto missing = parse_config("[alerts]\nrules = \"/nonexistent/a.toml\"\n", "s.toml");
+  EXPECT_EQ(load_alert_rules(*missing).error().message, "alerts.rules: /nonexistent/a.toml: cannot be read");
 }
 
 }  // namespace

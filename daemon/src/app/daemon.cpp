@@ -25,6 +25,7 @@
 #include "spinewatch/daemon/store.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
 #include "spinewatch/daemon/summary_stream.hpp"
+#include "spinewatch/estimator/load/alert_json.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/sync/trigger_controller.hpp"
 
@@ -149,6 +150,8 @@ struct Daemon::Impl {
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
+  std::unique_ptr<AlertMonitor> alerts;      // estimator thread only
+  SummaryLabels labels;                      // station and UTC for summary and alert lines
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
@@ -257,6 +260,11 @@ struct Daemon::Impl {
       store->add_posture(posture.seq, posture.t_ns, line);
     publisher->publish(std::move(line));
     publish_summaries(summaries->add(posture));
+    for (const AlertEvent& e : alerts->update(posture)) {
+      std::string alert = encode_alert(e, labels);
+      if (store) store->add_alert(e.t_ns, alert);
+      publisher->publish(std::move(alert));
+    }
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
   }
 
@@ -415,7 +423,13 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   SummaryLabels labels;
   labels.station = d.config.station.name;
   if (plan->kind == SourcePlan::Kind::Cameras || plan->paced) labels.utc_offset_ns = realtime_minus_monotonic_ns();
+  d.labels = labels;
   d.summaries = std::make_unique<SummaryStream>(exposure_options(d.config), std::move(labels));
+  auto rules = load_alert_rules(d.config);
+  if (!rules) return rules.error();
+  spdlog::info("alerts: {} rules{}", rules->size(),
+               d.config.alerts.rules.empty() ? " (built-in)" : " from " + d.config.alerts.rules);
+  d.alerts = std::make_unique<AlertMonitor>(std::move(rules).value());
   if (!d.config.storage.path.empty()) {
     d.store = std::make_unique<Store>(store_options(d.config));
     d.store->add_event("info", fmt::format("started: source {}", d.source_name));

@@ -143,6 +143,9 @@ const std::vector<Key>& keys() {
 
       int_key("exposure.interval_s", [](Config& c) -> int& { return c.exposure.interval_s; }, {1, 86400}),
 
+      bool_key("alerts.enabled", [](Config& c) -> bool& { return c.alerts.enabled; }),
+      string_key("alerts.rules", [](Config& c) -> std::string& { return c.alerts.rules; }),
+
       string_key("storage.path", [](Config& c) -> std::string& { return c.storage.path; }),
       int_key("storage.posture_every", [](Config& c) -> int& { return c.storage.posture_every; }, {1, 1000000}),
       double_key("storage.retention_days", [](Config& c) -> double& { return c.storage.retention_days; }, {1e-5, 36500.0}),

@@ -104,6 +104,12 @@ struct Config {
     bool operator==(const Exposure&) const = default;
   } exposure;
 
+  struct Alerts {
+    bool enabled = true;    // alert rules run and their lines are published (docs/exposure.md, "Alerts")
+    std::string rules = "";  // rules file ([[rule]] tables); "" = the built-in config/alerts.toml
+    bool operator==(const Alerts&) const = default;
+  } alerts;
+
   struct Storage {
     std::string path = "";          // the SQLite database; "" = nothing stored (docs/storage.md)
     int posture_every = 30;         // store every Nth posture (30: once a second at 30 fps)
