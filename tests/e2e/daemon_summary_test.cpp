@@ -42,6 +42,7 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
   std::vector<nlohmann::json> summaries;
   // Until three whole intervals have come (≈ 3–4 s).
   int whole = 0;
+  bool named = false;  // set_worker with an id after the first whole interval
   for (auto deadline = std::chrono::steady_clock::now() + test::scaled(20s);
        whole < 3 && std::chrono::steady_clock::now() < deadline;) {
     auto line = client->read_line(test::scaled(3s));
@@ -51,6 +52,7 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
     if (j.at("class") != "summary") continue;
     summaries.push_back(j);
     if (j.at("scope") == "interval" && !j.at("partial").get<bool>()) ++whole;
+    if (whole == 1 && !named) named = client->send_text("{\"command\":\"set_worker\",\"id\":\"w-17\"}\n");
   }
   ASSERT_EQ(whole, 3) << daemon.log();
   daemon.signal(SIGTERM);
@@ -86,14 +88,24 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
       EXPECT_EQ(start.substr(start.size() - 5), ".000Z") << start;
       EXPECT_GT(c.at("tracked_s").get<double>(), 0.5) << interval.dump();
     }
-    if (i > 0) {
-      EXPECT_EQ(interval.at("start_ns"), summaries[i - 2].at("end_ns"));  // back to back
+    if (i > 0 && !summaries[i - 2].at("partial").get<bool>()) {
+      EXPECT_EQ(interval.at("start_ns"), summaries[i - 2].at("end_ns"));  // back to back within a shift
     }
   }
   EXPECT_TRUE(summaries[summaries.size() - 2].at("partial").get<bool>()) << "no partial interval at stop";
-  // The shift's tracked time is the sum of the intervals'.
+  // The named worker: the summaries before carry no worker, the last ones
+  // carry w-17; the change closed a shift (a new worker, a new shift).
+  ASSERT_TRUE(named);
+  EXPECT_FALSE(summaries.front().contains("worker"));
+  EXPECT_EQ(summaries.back().value("worker", ""), "w-17");
+  std::size_t shifts_closed_partial = 0;
+  for (std::size_t i = 0; i + 1 < summaries.size(); i += 2)
+    if (summaries[i].at("partial").get<bool>() && !summaries[i].contains("worker") && i > 0) ++shifts_closed_partial;
+  EXPECT_EQ(shifts_closed_partial, 1u) << "the unnamed worker's last interval, cut short by set_worker";
+  // The last shift's tracked time is the sum of its intervals'.
   double tracked = 0;
-  for (std::size_t i = 0; i < summaries.size(); i += 2) tracked += summaries[i].at("coverage").at("tracked_s").get<double>();
+  for (std::size_t i = 0; i < summaries.size(); i += 2)
+    if (summaries[i].value("worker", "") == "w-17") tracked += summaries[i].at("coverage").at("tracked_s").get<double>();
   EXPECT_NEAR(summaries.back().at("coverage").at("tracked_s").get<double>(), tracked, 1e-4);
 }
 

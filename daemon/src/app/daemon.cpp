@@ -147,6 +147,7 @@ struct Daemon::Impl {
   // whose I/O thread sets it).
   std::mutex worker_mutex;
   std::optional<KnownWorker> pending_worker;
+  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
@@ -228,16 +229,29 @@ struct Daemon::Impl {
                        w.mass_kg ? fmt::format("{:.1f} kg", *w.mass_kg) : "not known");
   }
 
-  void set_worker(const KnownWorker& worker, std::string_view by) {
-    spdlog::info("worker set by {}: {}; the subject's model is built afresh", by, describe(worker));
+  void set_worker(const KnownWorker& worker, std::string_view by, std::optional<std::string> id = std::nullopt) {
+    spdlog::info("worker {}set by {}: {}; the subject's model is built afresh", id ? *id + " " : "", by,
+                 describe(worker));
     std::lock_guard lock(worker_mutex);
     pending_worker = worker;
+    pending_worker_id = std::move(id);
   }
 
-  // On the estimator thread, before each pair.
+  // On the estimator thread, before each pair: the worker, and the
+  // previous worker's shift closed (a new worker, a new shift).
   std::optional<KnownWorker> take_pending_worker() {
-    std::lock_guard lock(worker_mutex);
-    return std::exchange(pending_worker, std::nullopt);
+    std::optional<std::string> id;
+    std::optional<KnownWorker> worker;
+    {
+      std::lock_guard lock(worker_mutex);
+      worker = std::exchange(pending_worker, std::nullopt);
+      id = std::exchange(pending_worker_id, std::nullopt);
+    }
+    if (worker) {
+      publish_summaries(summaries->set_worker(id));  // the previous worker's, labelled as such
+      labels.worker = std::move(id);
+    }
+    return worker;
   }
 
   // On the publisher's I/O thread: one line a client sent.
@@ -248,7 +262,7 @@ struct Daemon::Impl {
       spdlog::warn("client {}: {}", client, command.error().message);
       return {rejected_reply(command.error()), false};
     }
-    set_worker(command->worker, "client " + client);
+    set_worker(command->worker, "client " + client, command->id);
     return {accepted_reply(*command), true};
   }
 
@@ -270,7 +284,9 @@ struct Daemon::Impl {
 
   void publish_summaries(std::vector<SummaryLine> lines) {
     for (auto& s : lines) {
-      if (store) store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns, "", s.line);
+      if (store)
+        store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns,
+                           labels.worker.value_or(""), s.line);
       publisher->publish(std::move(s.line));
     }
   }

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cctype>
 #include "spinewatch/daemon/client_command.hpp"
 
 #include <fmt/format.h>
@@ -45,9 +47,19 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   if (*command != "set_worker")
     return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)", command->get<std::string>())};
   for (const auto& [key, value] : j.items())
-    if (key != "command" && key != kStature.key && key != kMass.key)
-      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg)", key)};
+    if (key != "command" && key != kStature.key && key != kMass.key && key != "id")
+      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg, id)", key)};
   SetWorkerCommand c;
+  if (const auto id = j.find("id"); id != j.end() && !id->is_null()) {
+    if (!id->is_string()) return Error{fmt::format("id: expected a string or null, got {}", id->type_name())};
+    const std::string text = id->get<std::string>();
+    const bool ok = !text.empty() && text.size() <= 64 &&
+                    std::all_of(text.begin(), text.end(), [](char ch) {
+                      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
+                    });
+    if (!ok) return Error{"id: 1 to 64 letters, digits, '.', '_' or '-'"};
+    c.id = text;
+  }
   auto stature = optional_number(j, kStature);
   if (!stature) return stature.error();
   auto mass = optional_number(j, kMass);
@@ -57,8 +69,9 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
 }
 
 std::string accepted_reply(const SetWorkerCommand& command) {
-  return ojson{{"class", "reply"}, {"v", kReplyVersion}, {"command", "set_worker"},
-              {"ok", true},       {"worker", worker_json(command.worker)}}
+  ojson worker = worker_json(command.worker);
+  if (command.id) worker["id"] = *command.id;
+  return ojson{{"class", "reply"}, {"v", kReplyVersion}, {"command", "set_worker"}, {"ok", true}, {"worker", worker}}
       .dump();
 }
 

@@ -24,6 +24,13 @@ class SummaryStream {
   std::vector<SummaryLine> add(const Posture& posture) { return encode(accumulator_.add(posture)); }
   // The last partial interval and the shift, at stop.
   std::vector<SummaryLine> finish() { return encode(accumulator_.finish()); }
+  // A new worker in view: the previous one's last interval and shift,
+  // then summaries carry `id` (none: no "worker" field).
+  std::vector<SummaryLine> set_worker(std::optional<std::string> id) {
+    auto lines = finish();
+    labels_.worker = std::move(id);
+    return lines;
+  }
 
  private:
   std::vector<SummaryLine> encode(const std::vector<ExposureSummary>& closed) const;
