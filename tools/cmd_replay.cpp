@@ -10,6 +10,8 @@
 #include "progress_bar.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/daemon/exposure_options.hpp"
+#include "spinewatch/estimator/load/exposure_json.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 #include "spinewatch/replay/overlay.hpp"
 #include "spinewatch/replay/replay.hpp"
@@ -18,7 +20,7 @@ namespace spinewatch::cli {
 
 void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
-    std::string recording, out, config, calibration, overlay;
+    std::string recording, out, config, calibration, overlay, summaries;
     std::uint64_t every = 1;
     bool ignore_background = false;
   };
@@ -30,6 +32,9 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml instead of the recording's");
   cmd->add_flag("--ignore-background", opts->ignore_background,
                 "do not use the recording's background_*.png (learn or bootstrap the background instead)");
+  cmd->add_option("--summaries", opts->summaries,
+                  "also write the exposure summaries (\"class\": \"summary\" lines, docs/exposure.md) to FILE, "
+                  "- for standard output; [exposure] interval_s of --config sets their length");
   auto* overlay_option = cmd->add_option("--overlay", opts->overlay,
                   "also write DIR/pair_<seq>.png: both views with silhouette outline, CVSM fit and vertebrae");
   cmd->add_option("--every", opts->every, "with --overlay: draw every N-th pair (default 1)")
@@ -37,9 +42,11 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
       ->needs(overlay_option);
   cmd->callback([opts, &exit_code] {
     ReplayOptions options;
+    ExposureOptions exposure;
     if (!opts->config.empty()) {
       auto config = load_config(opts->config);
       if (!config) return exit_code.fail(config.error());
+      exposure = exposure_options(*config);
       auto estimator = load_estimator_options(*config);
       if (!estimator) return exit_code.fail(estimator.error());
       options.estimator = std::move(estimator).value();
@@ -57,16 +64,33 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
     }
     auto out = OutputFile::open(opts->out);
     if (!out) return exit_code.fail(out.error());
+    std::unique_ptr<OutputFile> summaries;
+    if (!opts->summaries.empty()) {
+      if (opts->summaries == "-" && opts->out == "-")
+        return exit_code.fail(Error{"--summaries -: --out is standard output already; name a file for one of them"}, 2);
+      auto file = OutputFile::open(opts->summaries);
+      if (!file) return exit_code.fail(file.error());
+      summaries = std::move(file).value();
+    }
+    ExposureAccumulator accumulator(exposure);
+    auto write_summaries = [&summaries](const std::vector<ExposureSummary>& closed) {
+      for (const ExposureSummary& s : closed) summaries->stream() << encode_summary(s) << '\n';
+    };
     ProgressBar bar("replay");
     auto stats = replay_recording(
         opts->recording, options,
-        [&out](const Posture& p) -> Status {
+        [&](const Posture& p) -> Status {
           (*out)->stream() << encode_posture(p) << '\n';
+          if (summaries) write_summaries(accumulator.add(p));
           return Ok{};
         },
         [&bar](const ReplayProgress& p) { bar.update(p.pairs_done, p.pairs_expected); });
     if (!stats) return exit_code.fail(stats.error());
     if (auto s = (*out)->commit(); !s) return exit_code.fail(s.error());
+    if (summaries) {
+      write_summaries(accumulator.finish());
+      if (auto s = summaries->commit(); !s) return exit_code.fail(s.error());
+    }
     spdlog::debug("replay: {} pairs, {} lost; {}", stats->pairs, stats->lost, stats->pairing.summary());
     if (overlay) spdlog::info("replay: {} overlays in {}", overlay->written(), opts->overlay);
   });

@@ -21,6 +21,11 @@ TEST(ClientCommand, SetWorkerWithStatureMassOrNeither) {
   auto unknown = parse_client_command(R"({"command":"set_worker"})");
   ASSERT_TRUE(unknown) << unknown.error().message;
   EXPECT_EQ(unknown->worker, KnownWorker{}) << "an unknown worker: everything measured or estimated";
+  EXPECT_FALSE(unknown->id);
+
+  auto named = parse_client_command(R"({"command":"set_worker","id":"w-17.b_2","mass_kg":70})");
+  ASSERT_TRUE(named) << named.error().message;
+  EXPECT_EQ(named->id, "w-17.b_2");
 }
 
 TEST(ClientCommand, SetWorkerWithMeasuredLandmarks) {
@@ -44,10 +49,13 @@ TEST(ClientCommand, BadLinesSayWhatIsWrong) {
       {R"({"command": 7})", "command: expected a string, got number"},
       {R"({"command": "shutdown"})", "command: \"shutdown\" is not a command (known: set_worker)"},
       {R"({"command": "set_worker", "height": 1700})",
-       "height: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm)"},
+       "height: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id)"},
       {R"({"command": "set_worker", "c7_height_mm": 150})", "c7_height_mm: 150 is out of range [800, 2000]"},
       {R"({"command": "set_worker", "stature_mm": 1600, "c7_height_mm": 1550})",
        "c7_height_mm: 1550 mm is not at least 100 mm below the stature (1600 mm)"},
+      {R"({"command": "set_worker", "id": 17})", "id: expected a string or null, got number"},
+      {R"({"command": "set_worker", "id": "w 17"})", "id: 1 to 64 letters, digits, '.', '_' or '-'"},
+      {R"({"command": "set_worker", "id": ""})", "id: 1 to 64 letters, digits, '.', '_' or '-'"},
       {R"({"command": "set_worker", "stature_mm": "tall"})", "stature_mm: expected a number or null, got string"},
       {R"({"command": "set_worker", "stature_mm": 400})", "stature_mm: 400 is out of range [1000, 2300]"},
       {R"({"command": "set_worker", "mass_kg": 300})", "mass_kg: 300 is out of range [20, 250]"},
@@ -60,13 +68,16 @@ TEST(ClientCommand, BadLinesSayWhatIsWrong) {
 }
 
 TEST(ClientCommand, RepliesAreReplyLines) {
-  const auto ok = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}}));
+  const auto ok = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}, std::nullopt}));
   EXPECT_EQ(ok.at("class"), "reply");
   EXPECT_EQ(ok.at("v"), 1);
   EXPECT_EQ(ok.at("command"), "set_worker");
   EXPECT_EQ(ok.at("ok"), true);
   EXPECT_EQ(ok.at("worker").at("stature_mm"), 1755.0);
   EXPECT_TRUE(ok.at("worker").at("mass_kg").is_null());
+  EXPECT_FALSE(ok.at("worker").contains("id"));
+  const auto with_id = nlohmann::json::parse(accepted_reply({KnownWorker{}, "w-17"}));
+  EXPECT_EQ(with_id.at("worker").at("id"), "w-17");
 
   const auto bad = nlohmann::json::parse(rejected_reply(Error{"command: missing"}));
   EXPECT_EQ(bad.at("class"), "reply");

@@ -74,7 +74,8 @@ class DaemonBackground : public ::testing::Test {
     while (static_cast<int>(lines.size()) < count) {
       auto line = client->read_line(test::scaled(5s));
       if (!line) break;
-      lines.push_back(nlohmann::json::parse(*line));
+      auto j = nlohmann::json::parse(*line);
+      if (j.value("class", "") == "posture") lines.push_back(std::move(j));  // summaries come at whole minutes
     }
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.wait_exit(test::scaled(5s)), 0) << daemon.log();

@@ -2,8 +2,9 @@
 """Validate NDJSON lines against spinewatch's JSON Schemas (docs/).
 
 Usage: validate_ndjson.py SCHEMA_DIR FILE
-Posture lines are checked against posture.schema.json, hello and reply
-lines against hello.schema.json and reply.schema.json. Exit 0 when every line is valid; else the first problem.
+Posture lines are checked against posture.schema.json; hello, reply,
+summary and alert lines against hello.schema.json, reply.schema.json,
+summary.schema.json and alert.schema.json. Exit 0 when every line is valid; else the first problem.
 """
 import json
 import sys
@@ -12,7 +13,7 @@ import jsonschema
 
 schema_dir, path = sys.argv[1], sys.argv[2]
 schemas = {}
-for name in ("posture", "hello", "reply"):
+for name in ("posture", "hello", "reply", "summary", "alert"):
     with open(f"{schema_dir}/{name}.schema.json") as f:
         schemas[name] = json.load(f)
         jsonschema.Draft202012Validator.check_schema(schemas[name])

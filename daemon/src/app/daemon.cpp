@@ -16,12 +16,16 @@
 #include "spinewatch/daemon/client_command.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/daemon/source_plan.hpp"
+#include "spinewatch/daemon/store.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
+#include "spinewatch/daemon/summary_stream.hpp"
+#include "spinewatch/estimator/load/alert_json.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/sync/trigger_controller.hpp"
 
@@ -143,7 +147,12 @@ struct Daemon::Impl {
   // whose I/O thread sets it).
   std::mutex worker_mutex;
   std::optional<KnownWorker> pending_worker;
+  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with
   std::unique_ptr<Publisher> publisher;
+  std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
+  std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
+  std::unique_ptr<AlertMonitor> alerts;      // estimator thread only
+  SummaryLabels labels;                      // station and UTC for summary and alert lines
   std::unique_ptr<Pipeline> pipeline;
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
@@ -173,6 +182,10 @@ struct Daemon::Impl {
                                    rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
                                    to_string(static_cast<TrackingState>(last_state.load())));
     if (!config.trigger.controller.empty()) text += "; trigger " + trigger_status;
+    if (store) {
+      const StoreStats st = store->stats();
+      text += fmt::format("; storage {} written, {} dropped, {} failed", st.written, st.dropped, st.failed);
+    }
     return text;
   }
 
@@ -219,16 +232,29 @@ struct Daemon::Impl {
     return text;
   }
 
-  void set_worker(const KnownWorker& worker, std::string_view by) {
-    spdlog::info("worker set by {}: {}; the subject's model is built afresh", by, describe(worker));
+  void set_worker(const KnownWorker& worker, std::string_view by, std::optional<std::string> id = std::nullopt) {
+    spdlog::info("worker {}set by {}: {}; the subject's model is built afresh", id ? *id + " " : "", by,
+                 describe(worker));
     std::lock_guard lock(worker_mutex);
     pending_worker = worker;
+    pending_worker_id = std::move(id);
   }
 
-  // On the estimator thread, before each pair.
+  // On the estimator thread, before each pair: the worker, and the
+  // previous worker's shift closed (a new worker, a new shift).
   std::optional<KnownWorker> take_pending_worker() {
-    std::lock_guard lock(worker_mutex);
-    return std::exchange(pending_worker, std::nullopt);
+    std::optional<std::string> id;
+    std::optional<KnownWorker> worker;
+    {
+      std::lock_guard lock(worker_mutex);
+      worker = std::exchange(pending_worker, std::nullopt);
+      id = std::exchange(pending_worker_id, std::nullopt);
+    }
+    if (worker) {
+      publish_summaries(summaries->set_worker(id));  // the previous worker's, labelled as such
+      labels.worker = std::move(id);
+    }
+    return worker;
   }
 
   // On the publisher's I/O thread: one line a client sent.
@@ -239,15 +265,33 @@ struct Daemon::Impl {
       spdlog::warn("client {}: {}", client, command.error().message);
       return {rejected_reply(command.error()), false};
     }
-    set_worker(command->worker, "client " + client);
+    set_worker(command->worker, "client " + client, command->id);
     return {accepted_reply(*command), true};
   }
 
   // On the estimator thread: encode and hand over; never blocks.
   void on_posture(const Posture& posture) {
     last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
-    publisher->publish(encode_posture_line(posture, stream_stats()));
+    std::string line = encode_posture_line(posture, stream_stats());
+    if (store && posture.seq % std::uint64_t(config.storage.posture_every) == 0)
+      store->add_posture(posture.seq, posture.t_ns, line);
+    publisher->publish(std::move(line));
+    publish_summaries(summaries->add(posture));
+    for (const AlertEvent& e : alerts->update(posture)) {
+      std::string alert = encode_alert(e, labels);
+      if (store) store->add_alert(e.t_ns, alert);
+      publisher->publish(std::move(alert));
+    }
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
+  }
+
+  void publish_summaries(std::vector<SummaryLine> lines) {
+    for (auto& s : lines) {
+      if (store)
+        store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns,
+                           labels.worker.value_or(""), s.line);
+      publisher->publish(std::move(s.line));
+    }
   }
 
   void on_first_pair() {
@@ -317,6 +361,7 @@ struct Daemon::Impl {
     }
     if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());
     if (!applied.empty()) spdlog::info("reload: applied {}", fmt::join(applied, ", "));
+    if (store && !applied.empty()) store->add_event("info", fmt::format("reload: applied {}", fmt::join(applied, ", ")));
     if (!need_restart.empty())
       spdlog::warn("reload: {} changed; restart the daemon to apply (still running with the old values)",
                    fmt::join(need_restart, ", "));
@@ -393,6 +438,23 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto estimator_config = load_estimator_options(d.config);
   if (!estimator_config) return estimator_config.error();
   auto estimator = std::make_shared<PostureEstimator>(d.rig, *estimator_config);
+  // Pair times are CLOCK_MONOTONIC from cameras and a paced replay (a fast
+  // replay keeps the recording's): only then do summaries carry UTC times
+  // and whole wall-clock intervals.
+  SummaryLabels labels;
+  labels.station = d.config.station.name;
+  if (plan->kind == SourcePlan::Kind::Cameras || plan->paced) labels.utc_offset_ns = realtime_minus_monotonic_ns();
+  d.labels = labels;
+  d.summaries = std::make_unique<SummaryStream>(exposure_options(d.config), std::move(labels));
+  auto rules = load_alert_rules(d.config);
+  if (!rules) return rules.error();
+  spdlog::info("alerts: {} rules{}", rules->size(),
+               d.config.alerts.rules.empty() ? " (built-in)" : " from " + d.config.alerts.rules);
+  d.alerts = std::make_unique<AlertMonitor>(std::move(rules).value());
+  if (!d.config.storage.path.empty()) {
+    d.store = std::make_unique<Store>(store_options(d.config));
+    d.store->add_event("info", fmt::format("started: source {}", d.source_name));
+  }
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
@@ -423,7 +485,12 @@ int Daemon::run() {
   d.notifier.stopping();
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
+  d.publish_summaries(d.summaries->finish());  // the last partial interval
   d.publisher->stop();
+  if (d.store) {
+    d.store->add_event("info", "stopped: " + d.status_text(0.0));
+    d.store->stop();
+  }
   spdlog::info("stopped in {} ms; {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
                d.status_text(0.0));

@@ -1,6 +1,7 @@
 #include "spinewatch/daemon/client_command.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <iterator>
 
 #include <fmt/format.h>
@@ -57,9 +58,21 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   if (*command != "set_worker")
     return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)", command->get<std::string>())};
   for (const auto& [key, value] : j.items())
-    if (key != "command" && std::none_of(std::begin(kFields), std::end(kFields), [&](const Bounds& b) { return key == b.key; }))
-      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm)", key)};
+    if (key != "command" && key != "id" &&
+        std::none_of(std::begin(kFields), std::end(kFields), [&](const Bounds& b) { return key == b.key; }))
+      return Error{fmt::format(
+          "{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id)", key)};
   SetWorkerCommand c;
+  if (const auto id = j.find("id"); id != j.end() && !id->is_null()) {
+    if (!id->is_string()) return Error{fmt::format("id: expected a string or null, got {}", id->type_name())};
+    const std::string text = id->get<std::string>();
+    const bool ok = !text.empty() && text.size() <= 64 &&
+                    std::all_of(text.begin(), text.end(), [](char ch) {
+                      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
+                    });
+    if (!ok) return Error{"id: 1 to 64 letters, digits, '.', '_' or '-'"};
+    c.id = text;
+  }
   std::optional<double>* fields[] = {&c.worker.stature_mm, &c.worker.mass_kg, &c.worker.c7_height_mm,
                                      &c.worker.iliac_crest_height_mm};
   for (std::size_t i = 0; i < std::size(kFields); ++i) {
@@ -72,8 +85,9 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
 }
 
 std::string accepted_reply(const SetWorkerCommand& command) {
-  return ojson{{"class", "reply"}, {"v", kReplyVersion}, {"command", "set_worker"},
-              {"ok", true},       {"worker", worker_json(command.worker)}}
+  ojson worker = worker_json(command.worker);
+  if (command.id) worker["id"] = *command.id;
+  return ojson{{"class", "reply"}, {"v", kReplyVersion}, {"command", "set_worker"}, {"ok", true}, {"worker", worker}}
       .dump();
 }
 

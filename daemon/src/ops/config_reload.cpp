@@ -41,6 +41,10 @@ const std::vector<Field>& fields() {
       SW_FIELD(subject, iliac_crest_height_mm), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),
       SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
       SW_FIELD(publish, max_clients),
+      SW_FIELD(exposure, interval_s),
+      SW_FIELD(alerts, enabled), SW_FIELD(alerts, rules),
+      SW_FIELD(storage, path), SW_FIELD(storage, posture_every), SW_FIELD(storage, retention_days),
+      SW_FIELD(storage, max_size_mb),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
   };
   return table;

@@ -144,6 +144,16 @@ const std::vector<Key>& keys() {
       int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
       int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),
 
+      int_key("exposure.interval_s", [](Config& c) -> int& { return c.exposure.interval_s; }, {1, 86400}),
+
+      bool_key("alerts.enabled", [](Config& c) -> bool& { return c.alerts.enabled; }),
+      string_key("alerts.rules", [](Config& c) -> std::string& { return c.alerts.rules; }),
+
+      string_key("storage.path", [](Config& c) -> std::string& { return c.storage.path; }),
+      int_key("storage.posture_every", [](Config& c) -> int& { return c.storage.posture_every; }, {1, 1000000}),
+      double_key("storage.retention_days", [](Config& c) -> double& { return c.storage.retention_days; }, {1e-5, 36500.0}),
+      double_key("storage.max_size_mb", [](Config& c) -> double& { return c.storage.max_size_mb; }, {0.0, 1e7}),
+
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),
       int_key("log.status_interval_s", [](Config& c) -> int& { return c.log.status_interval_s; }, {1, 86400}),

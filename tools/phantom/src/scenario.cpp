@@ -47,7 +47,41 @@ TrunkMotion fast(int i, int n) {
   return {.flexion_deg = 40 * bump(double(k) / double(2 * kHalf))};
 }
 
-constexpr std::array<Scenario, 9> kScenarios = {{
+// A working shift in miniature (docs/exposure.md): postures held in each
+// ISO 11226 trunk zone and repeated side bends and twists, with quick
+// (0.5 s) moves between them, so the time in each zone is known from the
+// script. Times are seconds of a 120 s movement, stretched over however
+// many frames are asked for (3600 frames: two minutes at 30 fps).
+struct Hold {
+  double until_s;  // held until here, after a 0.5 s move from the previous hold
+  double flexion_deg, lateral_deg, twist_deg;
+};
+constexpr double kShiftLength_s = 120, kShiftMove_s = 0.5;
+constexpr std::array<Hold, 27> kShiftHolds = {{
+    {8, 0, 0, 0},     {20, 45, 0, 0},   {26, 0, 0, 0},    {42, 75, 0, 0},   {48, 0, 0, 0},
+    {56, -15, 0, 0},  {60, 0, 0, 0},    {62, 0, 30, 0},   {64, 0, 0, 0},    {66, 0, 30, 0},
+    {68, 0, 0, 0},    {70, 0, -30, 0},  {72, 0, 0, 0},    {74, 0, 0, 20},   {76, 0, 0, 0},
+    {78, 0, 0, -20},  {80, 0, 0, 0},    {82, 0, 0, 20},   {84, 0, 0, 0},    {94, 100, 0, 0},
+    {100, 0, 0, 0},   {112, 50, 0, 0},  {114, 0, 0, 0},   {116, 40, 0, 0},  {117, 0, 0, 0},
+    {119, 20, 15, 15}, {120, 0, 0, 0},
+}};
+TrunkMotion shift(int i, int n) {
+  const double t = phase(i, n) * kShiftLength_s;
+  Hold from{0, 0, 0, 0};
+  for (const Hold& h : kShiftHolds) {
+    if (t <= h.until_s) {
+      const double u = std::clamp((t - from.until_s) / kShiftMove_s, 0.0, 1.0);
+      const double w = 0.5 * (1.0 - std::cos(M_PI * u));  // smooth start and stop
+      return {.flexion_deg = from.flexion_deg + w * (h.flexion_deg - from.flexion_deg),
+              .lateral_deg = from.lateral_deg + w * (h.lateral_deg - from.lateral_deg),
+              .twist_deg = from.twist_deg + w * (h.twist_deg - from.twist_deg)};
+    }
+    from = h;
+  }
+  return {};
+}
+
+constexpr std::array<Scenario, 10> kScenarios = {{
     {"upright", "standing still, tiny natural sway", 90, false, upright},
     {"flexion", "trunk flexion 0 -> 50 deg -> 0 (2/3 spine, 1/3 pelvis)", 90, false, flexion},
     {"lateral_left", "lateral bend to the left 0 -> 25 deg -> 0", 90, false, lateral_left},
@@ -57,6 +91,8 @@ constexpr std::array<Scenario, 9> kScenarios = {{
     {"seated_flexion", "seated subject, trunk flexion 0 -> 40 deg -> 0", 90, true, seated_flexion},
     {"sway", "small oscillations in flexion, lateral bend and twist with body sway", 120, false, sway},
     {"fast", "a 40 deg forward bend in 0.5 s and back in 0.5 s", 60, false, fast},
+    {"shift", "a shift in miniature: holds in every trunk zone, side bends, twists (--frames 3600: two minutes)", 120,
+     false, shift},
 }};
 
 }  // namespace

@@ -2,6 +2,7 @@
 // A bounded FIFO between two pipeline threads. A full queue drops its oldest
 // element rather than blocking the producer: a stale frame pair is worth less
 // than a fresh one, and the producer (a camera) cannot wait.
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -54,6 +55,23 @@ class BoundedQueue {
     lock.unlock();
     room_.notify_one();
     return value;
+  }
+
+  // As pop(), waiting at most `timeout` (zero: take what is there). Also
+  // nothing when the wait ran out; closed() tells the two apart.
+  std::optional<T> pop_for(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    ready_.wait_for(lock, timeout, [&] { return closed_ || !items_.empty(); });
+    if (items_.empty()) return std::nullopt;
+    T value = std::move(items_.front());
+    items_.pop_front();
+    lock.unlock();
+    room_.notify_one();
+    return value;
+  }
+  bool closed() const {
+    std::lock_guard lock(mutex_);
+    return closed_;
   }
 
   // Wakes every waiting pop(); elements still queued are delivered first.

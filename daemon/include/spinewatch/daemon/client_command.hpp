@@ -13,9 +13,13 @@ namespace spinewatch {
 
 // {"command": "set_worker", "stature_mm": 1755, "mass_kg": 80}: the worker
 // now in view; a field left out or null is not known (measured or
-// estimated). Starts the subject's model afresh.
+// estimated). Starts the subject's model afresh. Optional "id": who it is
+// (1–64 characters, letters, digits, '.', '_', '-'), carried by the
+// exposure summaries and alerts from then on; a new worker starts a new
+// shift (docs/exposure.md).
 struct SetWorkerCommand {
   KnownWorker worker;
+  std::optional<std::string> id;
 };
 
 // The command a line holds, or what is wrong with it (field and problem).

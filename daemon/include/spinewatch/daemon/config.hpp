@@ -104,6 +104,25 @@ struct Config {
     bool operator==(const Publish&) const = default;
   } publish;
 
+  struct Exposure {
+    int interval_s = 60;  // length of each exposure summary (docs/exposure.md)
+    bool operator==(const Exposure&) const = default;
+  } exposure;
+
+  struct Alerts {
+    bool enabled = true;    // alert rules run and their lines are published (docs/exposure.md, "Alerts")
+    std::string rules = "";  // rules file ([[rule]] tables); "" = the built-in config/alerts.toml
+    bool operator==(const Alerts&) const = default;
+  } alerts;
+
+  struct Storage {
+    std::string path = "";          // the SQLite database; "" = nothing stored (docs/storage.md)
+    int posture_every = 30;         // store every Nth posture (30: once a second at 30 fps)
+    double retention_days = 90;     // rows older than this are deleted
+    double max_size_mb = 0;         // the database's size limit; 0 = the disk's
+    bool operator==(const Storage&) const = default;
+  } storage;
+
   struct Log {
     std::string level = "info";  // trace | debug | info | warn | error
     int status_interval_s = 60;
