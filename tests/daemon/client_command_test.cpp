@@ -36,7 +36,7 @@ TEST(ClientCommand, SetWorkerWithMeasuredLandmarks) {
   const auto reply = nlohmann::json::parse(accepted_reply(*all));
   EXPECT_EQ(reply.at("worker").at("c7_height_mm"), 1500.0);
   EXPECT_EQ(reply.at("worker").at("iliac_crest_height_mm"), 1040.0);
-  const auto plain = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}}));
+  const auto plain = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}, std::nullopt}));
   EXPECT_FALSE(plain.at("worker").contains("c7_height_mm")) << "landmarks only when given";
 }
 
