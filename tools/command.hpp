@@ -28,5 +28,6 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code);
 void add_record_command(CLI::App& app, ExitCode& exit_code);
 void add_devices_command(CLI::App& app, ExitCode& exit_code);
 void add_watch_command(CLI::App& app, ExitCode& exit_code);
+void add_calibrate_command(CLI::App& app, ExitCode& exit_code);
 
 }  // namespace spinewatch::cli

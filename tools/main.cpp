@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   cli::add_record_command(app, exit_code);
   cli::add_devices_command(app, exit_code);
   cli::add_watch_command(app, exit_code);
+  cli::add_calibrate_command(app, exit_code);
 
   try {
     app.parse(argc, argv);
