@@ -96,9 +96,9 @@ Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::v
     cv::Mat K, dist;
     std::vector<cv::Mat> rvecs, tvecs;
     try {
-      // OpenCV's classic model (k1 k2 p1 p2 k3): what small board cameras
-      // need; the rational and thin-prism terms would fit the noise of a
-      // 320×240 image.
+      // OpenCV's classic model with k3 held at 0 (k1 k2 p1 p2): what the
+      // narrow lenses of these cameras need; k3 and the rational and
+      // thin-prism terms would fit the noise of a 320×240 image.
       fit.rms_px = cv::calibrateCamera(object, image, image_size, K, dist, rvecs, tvecs, cv::CALIB_FIX_K3,
                                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
     } catch (const cv::Exception& e) {

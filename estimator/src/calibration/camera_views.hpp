@@ -22,7 +22,7 @@ std::vector<Observation> collect_views(const CalibrationBoard& board, const std:
                                        const CalibrationLimits& limits, CameraReport& report);
 
 struct IntrinsicsFit {
-  CameraModel camera;  // camera_matrix and dist_coeffs (k1 k2 p1 p2 k3)
+  CameraModel camera;  // camera_matrix and dist_coeffs (k1 k2 p1 p2; k3 = 0)
   double rms_px = 0;
   std::vector<ViewError> views;
 };
