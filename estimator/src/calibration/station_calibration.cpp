@@ -251,12 +251,18 @@ StationCalibration calibrate_station(const CalibrationBoard& board, const std::a
   }
   report.axis_angle_deg =
       degrees(std::acos(std::clamp(report.cameras[0].axis.dot(report.cameras[1].axis), -1.0, 1.0)));
-  if (std::abs(report.axis_angle_deg - 90) > limits.axis_tolerance_deg)
+  const Eigen::Vector3d flat[2] = {report.cameras[0].axis.cwiseProduct(Eigen::Vector3d(1, 0, 1)),
+                                   report.cameras[1].axis.cwiseProduct(Eigen::Vector3d(1, 0, 1))};
+  report.horizontal_axis_angle_deg =
+      flat[0].norm() < 1e-6 || flat[1].norm() < 1e-6
+          ? 0.0
+          : degrees(std::acos(std::clamp(flat[0].normalized().dot(flat[1].normalized()), -1.0, 1.0)));
+  if (std::abs(report.horizontal_axis_angle_deg - 90) > limits.axis_tolerance_deg)
     report.problems.push_back(fmt::format(
-        "the cameras' optical axes are {:.1f}° apart; the station needs them 90° ± {:.0f}° apart (frontal camera at "
-        "{} mm, lateral at {} mm): turn the lateral camera so that it looks at the subject's side, square to the "
-        "frontal camera, and calibrate again",
-        report.axis_angle_deg, limits.axis_tolerance_deg, vec(report.cameras[0].centre),
+        "the cameras' optical axes are {:.1f}° apart seen from above; the station needs them 90° ± {:.0f}° apart "
+        "(frontal camera at {} mm, lateral at {} mm): turn the lateral camera so that it looks at the subject's "
+        "side, square to the frontal camera, and calibrate again",
+        report.horizontal_axis_angle_deg, limits.axis_tolerance_deg, vec(report.cameras[0].centre),
         vec(report.cameras[1].centre)));
   for (int i = 0; i < 2; ++i)
     if (report.cameras[i].centre.y() <= 0)
@@ -288,7 +294,9 @@ std::string format_report(const CalibrationReport& report) {
       s += fmt::format("  position: {} mm, optical axis ({:.3f}, {:.3f}, {:.3f})\n", vec(c.centre), c.axis.x(),
                        c.axis.y(), c.axis.z());
   }
-  if (report.placed) s += fmt::format("angle between the optical axes: {:.2f}°\n", report.axis_angle_deg);
+  if (report.placed)
+    s += fmt::format("angle between the optical axes: {:.2f}° ({:.2f}° seen from above)\n", report.axis_angle_deg,
+                     report.horizontal_axis_angle_deg);
   for (const auto& w : report.warnings) s += fmt::format("warning: {}\n", w);
   for (const auto& p : report.problems) s += fmt::format("refused: {}\n", p);
   return s;

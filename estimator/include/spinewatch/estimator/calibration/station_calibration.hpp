@@ -39,7 +39,7 @@ struct CalibrationLimits {
   int min_views = 8;                 // distinct board poses per camera for its intrinsics
   int min_corners = 8;               // corners in a view for it to count
   double max_error_px = 1.0;         // RMS reprojection error, per camera and of the placement
-  double axis_tolerance_deg = 15.0;  // |angle between the optical axes − 90°|
+  double axis_tolerance_deg = 15.0;  // |angle between the optical axes seen from above − 90°|
   double distinct_px = 4.0;          // a view whose corners moved less than this since the last one kept is the same pose
 };
 
@@ -83,6 +83,10 @@ struct CalibrationReport {
   std::string board;  // CalibrationBoard::describe()
   std::array<CameraReport, 2> cameras;
   double axis_angle_deg = 0;
+  // The same seen from above (the axes projected onto the floor): a front
+  // and a side view are 90° apart this way even when both cameras look
+  // down. What the orthogonality limit applies to.
+  double horizontal_axis_angle_deg = 0;
   bool placed = false;  // the world frame was found (both cameras placed)
   std::vector<std::string> problems;  // why it is refused; empty when accepted
   std::vector<std::string> warnings;
