@@ -28,7 +28,7 @@ Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double degrees) {
 }  // namespace
 
 BoardRenderer::BoardRenderer(const CalibrationBoard& board, const CameraModel& camera, cv::Size size, int supersample)
-    : camera_(camera), size_(size), supersample_(supersample) {
+    : camera_(camera), size_(size) {
   // Texture fine enough that a sub-pixel sample never falls between its
   // texels even with the board close (2 px per mm).
   px_per_mm_ = 2.0;

@@ -39,7 +39,6 @@ class BoardRenderer {
  private:
   CameraModel camera_;
   cv::Size size_;
-  int supersample_;
   double px_per_mm_;
   cv::Matx23d to_texture_;
   cv::Mat texture_;     // CV_32F, grey levels of the printed board as the camera sees them
