@@ -1,6 +1,9 @@
 // spinewatch check: validate a configuration file and a calibration file
 // before installing them on a station.
 #include <memory>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include <spdlog/spdlog.h>
 
@@ -26,17 +29,30 @@ void add_check_command(CLI::App& app, ExitCode& exit_code) {
       exit_code.value = 2;
       return;
     }
+    std::optional<Config> config;
     if (!opts->config.empty()) {
-      auto config = load_config(opts->config);
-      if (!config) return exit_code.fail(config.error());
+      auto loaded = load_config(opts->config);
+      if (!loaded) return exit_code.fail(loaded.error());
       // The model files it names are part of it.
-      if (auto models = load_estimator_options(*config); !models) return exit_code.fail(models.error());
+      if (auto models = load_estimator_options(*loaded); !models) return exit_code.fail(models.error());
       spdlog::info("{}: valid", opts->config);
+      config = std::move(loaded).value();
     }
     if (!opts->calibration.empty()) {
       auto rig = load_calibration(opts->calibration);
       if (!rig) return exit_code.fail(rig.error());
+      // With the configuration, the cameras' resolution must be the calibrated one.
+      if (config)
+        if (auto s = check_image_size(*rig, config->cameras.width, config->cameras.height); !s)
+          return exit_code.fail(Error{fmt::format("{}: {} (cameras.width, cameras.height in {})", opts->calibration,
+                                                  s.error().message, opts->config)});
       spdlog::info("{}: valid", opts->calibration);
+      for (const auto& [name, cam] : {std::pair{"frontal", &rig->frontal}, std::pair{"lateral", &rig->lateral}}) {
+        const Eigen::Vector3d c = cam->centre_in_world();
+        spdlog::info("  {}: at ({:.0f}, {:.0f}, {:.0f}) mm, f = {:.1f} px, {} distortion coefficients{}", name, c.x(),
+                     c.y(), c.z(), cam->camera_matrix(0, 0), cam->distortion().size(),
+                     cam->image_width > 0 ? fmt::format(", for {}x{}", cam->image_width, cam->image_height) : "");
+      }
     }
   });
 }

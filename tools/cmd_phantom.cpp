@@ -79,6 +79,8 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     if (!opts->calibration.empty()) {
       auto rig = load_calibration(opts->calibration);
       if (!rig) return exit_code.fail(rig.error());
+      if (auto s = check_image_size(*rig, phantom::kImageWidth, phantom::kImageHeight); !s)
+        return exit_code.fail(Error{opts->calibration + ": " + s.error().message});
       p.rig = std::move(rig).value();
     }
     auto sequence = phantom::PhantomSequence::create(p);

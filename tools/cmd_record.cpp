@@ -139,6 +139,10 @@ int record(const RecordOptions& opts) {
       spdlog::error("{}", loaded.error().message);
       return 1;
     }
+    if (auto s = check_image_size(*loaded, config.cameras.width, config.cameras.height); !s) {
+      spdlog::error("{}: {}", calibration.string(), s.error().message);
+      return 1;
+    }
     rig = loaded.value();
   } else {
     spdlog::warn("{} not found: the recording gets the default rig (two ideal orthogonal cameras)",

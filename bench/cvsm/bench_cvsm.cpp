@@ -7,6 +7,9 @@
 #include <random>
 
 #include <benchmark/benchmark.h>
+#include <Eigen/Core>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include "cvsm_reference.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
@@ -306,6 +309,54 @@ void BM_CostOpenCvReference(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CostOpenCvReference)->Unit(benchmark::kMicrosecond);
+
+// The distorted projection: a lens with distortion sends every control
+// point of the fit through CameraModel::project (FixedCamera's fallback);
+// 5 coefficients (what calibrate writes) and all 14 of OpenCV's model,
+// against cv::projectPoints on the same points (the reference the camera
+// tests compare with to 1e-6 px).
+std::vector<Eigen::Vector3d> projection_points() {
+  std::vector<Eigen::Vector3d> points;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-400, 400), h(300, 1900);
+  for (int i = 0; i < 1024; ++i) points.emplace_back(u(rng), h(rng), u(rng));
+  return points;
+}
+
+CameraModel lens(int coefficients) {
+  CameraModel cam = CameraRig::default_rig().lateral;
+  const double d[14] = {-0.21, 0.05, 0.001, -0.0007, 0.01, 0.02, -0.004, 0.001, 0.002, -0.001, 0.0015, 0.0003, 0.01, -0.008};
+  for (int i = 0; i < coefficients; ++i) cam.dist_coeffs[static_cast<std::size_t>(i)] = d[i];
+  return cam;
+}
+
+void BM_ProjectDistorted(benchmark::State& state) {
+  const CameraModel cam = lens(static_cast<int>(state.range(0)));
+  const auto points = projection_points();
+  for (auto _ : state)
+    for (const auto& p : points) benchmark::DoNotOptimize(cam.project(p));
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(points.size()));
+}
+BENCHMARK(BM_ProjectDistorted)->Arg(5)->Arg(14);
+
+void BM_ProjectDistortedOpenCv(benchmark::State& state) {
+  const CameraModel cam = lens(static_cast<int>(state.range(0)));
+  std::vector<cv::Point3d> points;
+  for (const auto& p : projection_points()) points.emplace_back(p.x(), p.y(), p.z());
+  cv::Mat K, R, rvec, t;
+  cv::eigen2cv(cam.camera_matrix, K);
+  cv::eigen2cv(cam.R, R);
+  cv::eigen2cv(cam.t, t);
+  cv::Rodrigues(R, rvec);
+  const std::vector<double> dist = cam.distortion();
+  std::vector<cv::Point2d> out;
+  for (auto _ : state) {
+    cv::projectPoints(points, rvec, t, K, dist, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(points.size()));
+}
+BENCHMARK(BM_ProjectDistortedOpenCv)->Arg(5)->Arg(14);
 
 }  // namespace
 }  // namespace spinewatch

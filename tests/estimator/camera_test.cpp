@@ -104,9 +104,16 @@ TEST_F(BadCalibration, DataDoesNotFillTheMatrix) {
 TEST_F(BadCalibration, WrongMatrixSize) {
   std::string lateral = camera("lateral");
   const std::string five = "cols: 5\n      dt: d\n      data: [0., 0., 0., 0., 0.]";
-  lateral.replace(lateral.find(five), five.size(), "cols: 4\n      dt: d\n      data: [0., 0., 0., 0.]");
+  lateral.replace(lateral.find(five), five.size(), "cols: 6\n      dt: d\n      data: [0., 0., 0., 0., 0., 0.]");
   const auto msg = load_error("%YAML:1.0\n---\n" + camera("frontal") + lateral);
-  EXPECT_NE(msg.find("lateral.dist_coeffs: expected 1x5, got 1x4"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("lateral.dist_coeffs: 6 coefficients; OpenCV's models have 4, 5, 8, 12 or 14"), std::string::npos)
+      << msg;
+  const std::string frontal =
+      "frontal:\n"
+      "   camera_matrix: !!opencv-matrix\n      rows: 2\n      cols: 3\n      dt: d\n"
+      "      data: [300., 0., 160., 0., 300., 120.]\n";
+  const auto msg2 = load_error("%YAML:1.0\n---\n" + frontal + camera("lateral"));
+  EXPECT_NE(msg2.find("frontal.camera_matrix: expected 3x3, got 2x3"), std::string::npos) << msg2;
 }
 
 TEST_F(BadCalibration, NotARotation) {

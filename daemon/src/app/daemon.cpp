@@ -46,6 +46,14 @@ Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan) {
     if (!std::filesystem::exists(path, ec)) continue;
     auto rig = load_calibration(path);
     if (!rig) return rig.error();
+    // A calibration made at another resolution does not describe these frames.
+    int width = config.cameras.width, height = config.cameras.height;
+    if (plan.kind == SourcePlan::Kind::Recording)
+      if (auto reader = RecordingReader::open(plan.recording)) {
+        width = static_cast<int>(reader->info().format.width);
+        height = static_cast<int>(reader->info().format.height);
+      }
+    if (auto s = check_image_size(*rig, width, height); !s) return Error{path.string() + ": " + s.error().message};
     spdlog::info("calibration: {}", path.string());
     return rig;
   }

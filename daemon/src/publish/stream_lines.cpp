@@ -21,7 +21,7 @@ nlohmann::json matrix_rows(const Eigen::MatrixXd& m) {
 // The same nodes as calibration.yaml, so a client can project the posture.
 nlohmann::json camera_json(const CameraModel& camera) {
   return {{"camera_matrix", matrix_rows(camera.camera_matrix)},
-          {"dist_coeffs", camera.dist_coeffs},
+          {"dist_coeffs", camera.distortion()},
           {"R", matrix_rows(camera.R)},
           {"t", {camera.t.x(), camera.t.y(), camera.t.z()}}};
 }

@@ -58,6 +58,11 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
   if (!rig) return rig.error();
 
   const RecordingInfo& info = source->info();
+  if (!stats.default_rig)
+    if (auto s = check_image_size(*rig, static_cast<int>(info.format.width), static_cast<int>(info.format.height)); !s)
+      return Error{fmt::format("{}: {}",
+                               options.calibration.empty() ? (dir / "calibration.yaml").string() : options.calibration.string(),
+                               s.error().message)};
   ReplayProgress state;
   state.pairs_expected = std::min(info.frames[0].size(), info.frames[1].size());
 

@@ -1,0 +1,142 @@
+#include "camera_views.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+namespace spinewatch::calibration_detail {
+namespace {
+
+// Mean displacement (px) of the corners two observations share; infinite
+// when they share fewer than half of the newer one's.
+double displacement(const Observation& a, const Observation& b) {
+  std::map<int, cv::Point2f> at;
+  for (std::size_t i = 0; i < a.ids.size(); ++i) at[a.ids[i]] = a.pixels[i];
+  double sum = 0;
+  int shared = 0;
+  for (std::size_t i = 0; i < b.ids.size(); ++i)
+    if (auto it = at.find(b.ids[i]); it != at.end()) {
+      sum += cv::norm(it->second - b.pixels[i]);
+      ++shared;
+    }
+  if (2 * shared < static_cast<int>(b.ids.size())) return INFINITY;
+  return sum / shared;
+}
+
+}  // namespace
+
+cv::Mat camera_matrix_cv(const CameraModel& camera) {
+  cv::Mat K;
+  cv::eigen2cv(camera.camera_matrix, K);
+  return K;
+}
+
+cv::Mat dist_coeffs_cv(const CameraModel& camera) { return cv::Mat(camera.distortion(), true).reshape(1, 1); }
+
+std::vector<Observation> collect_views(const CalibrationBoard& board, const std::vector<cv::Mat>& frames,
+                                       const CalibrationLimits& limits, CameraReport& report) {
+  std::vector<Observation> views;
+  report.frames = static_cast<int>(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    BoardDetection found = board.detect(frames[i]);
+    report.max_markers = std::max(report.max_markers, found.markers);
+    if (found.empty()) continue;
+    ++report.frames_with_board;
+    if (!board.usable(found, limits.min_corners)) continue;
+    ++report.frames_usable;
+    Observation o{static_cast<int>(i), std::move(found.ids), std::move(found.pixels)};
+    if (!views.empty() && displacement(views.back(), o) < limits.distinct_px) continue;
+    views.push_back(std::move(o));
+  }
+  double corners = 0;
+  for (const auto& v : views) corners += double(v.ids.size());
+  report.distinct_views = static_cast<int>(views.size());
+  report.mean_corners = views.empty() ? 0 : corners / double(views.size());
+  return views;
+}
+
+double reprojection_rms(const CalibrationBoard& board, const CameraModel& camera, const std::vector<int>& ids,
+                        const std::vector<cv::Point2f>& pixels, const cv::Mat& rvec, const cv::Mat& tvec) {
+  std::vector<cv::Point2f> projected;
+  cv::projectPoints(board.object_points(ids), rvec, tvec, camera_matrix_cv(camera), dist_coeffs_cv(camera),
+                    projected);
+  double sum = 0;
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const cv::Point2f d = projected[i] - pixels[i];
+    sum += d.dot(d);
+  }
+  return pixels.empty() ? 0 : std::sqrt(sum / double(pixels.size()));
+}
+
+Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::vector<Observation>& views,
+                                     cv::Size image_size) {
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+  for (const auto& v : views) {
+    object.push_back(board.object_points(v.ids));
+    image.push_back(v.pixels);
+  }
+  IntrinsicsFit fit;
+  std::vector<bool> kept(views.size(), true);
+  // Twice at most: a view far worse than the others (a corner taken for its
+  // neighbour, a blurred frame) is left out of the second fit, and the
+  // report says so; the error of every view is still reported.
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<std::vector<cv::Point3f>> object;
+    std::vector<std::vector<cv::Point2f>> image;
+    for (std::size_t i = 0; i < views.size(); ++i)
+      if (kept[i]) {
+        object.push_back(board.object_points(views[i].ids));
+        image.push_back(views[i].pixels);
+      }
+    cv::Mat K, dist;
+    std::vector<cv::Mat> rvecs, tvecs;
+    try {
+      // OpenCV's classic model with k3 held at 0 (k1 k2 p1 p2): what the
+      // narrow lenses of these cameras need; k3 and the rational and
+      // thin-prism terms would fit the noise of a 320×240 image.
+      fit.rms_px = cv::calibrateCamera(object, image, image_size, K, dist, rvecs, tvecs, cv::CALIB_FIX_K3,
+                                       cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
+    } catch (const cv::Exception& e) {
+      return Error{fmt::format("cv::calibrateCamera failed ({})", e.err)};
+    }
+    cv::cv2eigen(K, fit.camera.camera_matrix);
+    fit.camera.dist_coeffs = {};
+    for (int i = 0; i < std::min<int>(dist.rows * dist.cols, int(kMaxDistortion)); ++i)
+      fit.camera.dist_coeffs[static_cast<std::size_t>(i)] = dist.at<double>(i);
+    fit.views.clear();
+    std::vector<double> errors;
+    for (std::size_t i = 0, k = 0; i < views.size(); ++i) {
+      ViewError e{views[i].frame, static_cast<int>(views[i].ids.size()), 0, !kept[i]};
+      if (kept[i]) {
+        e.rms_px = reprojection_rms(board, fit.camera, views[i].ids, views[i].pixels, rvecs[k], tvecs[k]);
+        errors.push_back(e.rms_px);
+        ++k;
+      } else {
+        // Its pose with the final intrinsics, for the report.
+        cv::Mat rvec, tvec;
+        cv::solvePnP(board.object_points(views[i].ids), views[i].pixels, K, dist, rvec, tvec);
+        e.rms_px = reprojection_rms(board, fit.camera, views[i].ids, views[i].pixels, rvec, tvec);
+      }
+      fit.views.push_back(e);
+    }
+    if (pass == 1) break;
+    std::vector<double> sorted = errors;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double limit = std::max(3 * sorted[sorted.size() / 2], 0.3);
+    bool dropped = false;
+    for (std::size_t i = 0; i < views.size(); ++i)
+      if (fit.views[i].rms_px > limit && views.size() - std::size_t(std::count(kept.begin(), kept.end(), false)) > 3) {
+        kept[i] = false;
+        dropped = true;
+      }
+    if (!dropped) break;
+  }
+  return fit;
+}
+
+}  // namespace spinewatch::calibration_detail

@@ -1,0 +1,42 @@
+#pragma once
+// Internal to the calibration area: one camera's board observations and
+// its intrinsics from them.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "spinewatch/estimator/calibration/station_calibration.hpp"
+
+namespace spinewatch::calibration_detail {
+
+struct Observation {
+  int frame = 0;
+  std::vector<int> ids;
+  std::vector<cv::Point2f> pixels;
+};
+
+// The distinct usable views among `frames` (a board held still for a
+// second gives thirty copies of one pose; only the first counts), and the
+// counts of what was seen into `report`.
+std::vector<Observation> collect_views(const CalibrationBoard& board, const std::vector<cv::Mat>& frames,
+                                       const CalibrationLimits& limits, CameraReport& report);
+
+struct IntrinsicsFit {
+  CameraModel camera;  // camera_matrix and dist_coeffs (k1 k2 p1 p2; k3 = 0)
+  double rms_px = 0;
+  std::vector<ViewError> views;
+};
+
+// cv::calibrateCamera over the views; an Error when OpenCV gives up.
+Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::vector<Observation>& views,
+                                     cv::Size image_size);
+
+// RMS distance (px) between `pixels` and the board corners `ids` projected
+// with the pose (rvec, tvec) through the camera's intrinsics.
+double reprojection_rms(const CalibrationBoard& board, const CameraModel& camera, const std::vector<int>& ids,
+                        const std::vector<cv::Point2f>& pixels, const cv::Mat& rvec, const cv::Mat& tvec);
+
+cv::Mat camera_matrix_cv(const CameraModel& camera);
+cv::Mat dist_coeffs_cv(const CameraModel& camera);
+
+}  // namespace spinewatch::calibration_detail

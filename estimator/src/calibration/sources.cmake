@@ -1,0 +1,6 @@
+# Station calibration from a board (docs/calibration.md): OpenCV's calib3d
+# and aruco (contrib) modules, private to the estimator.
+list(APPEND ESTIMATOR_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/board.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/camera_views.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/station_calibration.cpp)

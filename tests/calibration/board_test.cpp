@@ -1,0 +1,74 @@
+// The calibration board: what a bad board description says, and that the
+// corners found in the printed image are where the board says they are.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include <opencv2/imgproc.hpp>
+
+#include "spinewatch/estimator/calibration/board.hpp"
+
+namespace spinewatch {
+namespace {
+
+std::string create_error(const BoardSpec& spec) {
+  auto board = CalibrationBoard::create(spec);
+  EXPECT_FALSE(board);
+  return board ? std::string() : board.error().message;
+}
+
+TEST(CalibrationBoard, BadBoardsAreNamed) {
+  EXPECT_EQ(create_error({.marker_mm = 150}), "board: marker size 150 mm must be positive and smaller than the square (150 mm)");
+  EXPECT_EQ(create_error({.dictionary = "DICT_9X9_50"}), "board: unknown dictionary 'DICT_9X9_50' (DICT_4X4_50 … DICT_7X7_1000)");
+  EXPECT_EQ(create_error({.squares_x = 2}), "board: 2x7 squares; give 3 to 40 squares each way");
+  EXPECT_EQ(create_error({.squares_x = 12, .squares_y = 10}), "board: 12x10 squares need 60 markers but DICT_4X4_50 has 50");
+  EXPECT_NE(create_error({.kind = BoardKind::Chessboard, .squares_x = 7, .squares_y = 7}).find("looks the same turned by 90°"),
+            std::string::npos);
+}
+
+// Drawn, then found in the drawing (scaled down to camera-like sizes):
+// the corners are at board_to_image of their board coordinates.
+void expect_found_where_drawn(const BoardSpec& spec, double px_per_mm) {
+  auto board = CalibrationBoard::create(spec);
+  ASSERT_TRUE(board) << board.error().message;
+  const double margin = 30;
+  const cv::Mat image = board->draw(px_per_mm, margin);
+  const BoardDetection found = board->detect(image);
+  ASSERT_EQ(int(found.ids.size()), board->corner_count()) << board->describe();
+  EXPECT_TRUE(board->usable(found, 8));
+  const cv::Matx23d A = board->board_to_image(px_per_mm, margin);
+  // A chessboard's corners may be numbered from either end (the board turned
+  // by 180° looks the same); ChArUco's never are.
+  std::vector<int> ids = found.ids;
+  const cv::Point3f first = board->corner(ids.front());
+  if (spec.kind == BoardKind::Chessboard &&
+      cv::norm(found.pixels.front() - cv::Point2f(float(A(0, 0) * first.x + A(0, 2)), float(A(1, 1) * first.y + A(1, 2)))) > 5)
+    std::reverse(ids.begin(), ids.end());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const cv::Point3f c = board->corner(ids[i]);
+    const cv::Point2d expected(A(0, 0) * c.x + A(0, 2), A(1, 1) * c.y + A(1, 2));
+    EXPECT_NEAR(found.pixels[i].x, expected.x, 0.15) << "corner " << ids[i];
+    EXPECT_NEAR(found.pixels[i].y, expected.y, 0.15) << "corner " << ids[i];
+  }
+}
+
+TEST(CalibrationBoard, CharucoCornersAreFoundWhereDrawn) { expect_found_where_drawn({}, 0.6); }
+
+TEST(CalibrationBoard, ChessboardCornersAreFoundWhereDrawn) {
+  expect_found_where_drawn({.kind = BoardKind::Chessboard, .squares_x = 8, .squares_y = 6, .square_mm = 100}, 0.5);
+}
+
+TEST(CalibrationBoard, TooFewOrCollinearCornersAreNotUsable) {
+  auto board = CalibrationBoard::create({});
+  ASSERT_TRUE(board);
+  BoardDetection row;  // the first row of inner corners only
+  for (int i = 0; i < 4; ++i) {
+    row.ids.push_back(i);
+    row.pixels.emplace_back(float(10 * i), 0.f);
+  }
+  EXPECT_FALSE(board->usable(row, 3));
+  EXPECT_FALSE(board->usable(row, 8));
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -1,0 +1,185 @@
+// spinewatch calibrate: the station's calibration.yaml from two recordings
+// of a calibration board — held at poses in front of each camera (the
+// intrinsics views) and placed where the subject will stand (the world
+// frame) — with a report, refused when it would not hold
+// (docs/calibration.md).
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
+
+#include "command.hpp"
+#include "spinewatch/capture/recording.hpp"
+#include "spinewatch/estimator/calibration/station_calibration.hpp"
+
+namespace spinewatch::cli {
+namespace {
+
+struct Frames {
+  std::array<std::vector<cv::Mat>, 2> grey;
+  cv::Size size;
+};
+
+// Every frame of both views of a recording, as grey images.
+Result<Frames> read_recording(const std::string& dir) {
+  auto reader = RecordingReader::open(dir);
+  if (!reader) return reader.error();
+  for (const auto& w : reader->warnings()) spdlog::warn("{}", w);
+  Frames out;
+  out.size = cv::Size(static_cast<int>(reader->info().format.width), static_cast<int>(reader->info().format.height));
+  for (View view : kViews)
+    for (std::size_t i = 0; i < reader->frame_count(view); ++i) {
+      auto frame = reader->read(view, i);
+      if (!frame) return frame.error();
+      const LumaView luma = frame->luma();
+      cv::Mat grey(luma.height, luma.width, CV_8U);
+      for (int y = 0; y < luma.height; ++y)
+        for (int x = 0; x < luma.width; ++x) grey.at<std::uint8_t>(y, x) = luma.at(x, y);
+      out.grey[static_cast<std::size_t>(view)].push_back(std::move(grey));
+    }
+  return out;
+}
+
+Result<cv::Size> parse_squares(const std::string& text) {
+  int x = 0, y = 0;
+  char sep = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &x, &sep, &y, &extra) != 3 || (sep != 'x' && sep != 'X'))
+    return Error{fmt::format("--squares: '{}' is not COLUMNSxROWS (e.g. 5x7)", text)};
+  return cv::Size(x, y);
+}
+
+}  // namespace
+
+void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
+  struct Options {
+    std::string views, placement, out = "calibration.yaml";
+    std::string board = "charuco", squares = "5x7", dictionary = "DICT_4X4_50";
+    double square_mm = 150, marker_mm = 115;
+    std::string place = "upright";
+    double centre_height_mm = 0;
+    std::string intrinsics[2];
+    CalibrationLimits limits;
+    std::string write_board;
+    double dpi = 100;
+  };
+  auto opts = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("calibrate", "Calibrate the station's two cameras from recordings of a board");
+  cmd->add_option("--views", opts->views,
+                  "Recording of the board held at many poses in front of each camera (intrinsics)");
+  cmd->add_option("--placement", opts->placement,
+                  "Recording of the board placed where the subject will stand (the world frame)");
+  cmd->add_option("--out", opts->out, "calibration.yaml to write")->capture_default_str();
+  cmd->add_option("--board", opts->board, "Board kind")
+      ->check(CLI::IsMember({"charuco", "chessboard"}))
+      ->capture_default_str();
+  cmd->add_option("--squares", opts->squares, "Squares across x down the printed board")->capture_default_str();
+  cmd->add_option("--square-mm", opts->square_mm, "Side of a square as printed (mm)")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--marker-mm", opts->marker_mm, "Side of an ArUco marker as printed (mm; ChArUco)")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  cmd->add_option("--dictionary", opts->dictionary, "ArUco dictionary of the markers (ChArUco)")->capture_default_str();
+  cmd->add_option("--place", opts->place, "How the placement board stands: upright (plumb, turned halfway between "
+                                          "the cameras) or floor (flat on the floor)")
+      ->check(CLI::IsMember({"upright", "floor"}))
+      ->capture_default_str();
+  cmd->add_option("--board-centre-height", opts->centre_height_mm,
+                  "Upright: height of the centre of the board's squares above the floor (mm)")
+      ->check(CLI::Range(1.0, 3000.0));
+  cmd->add_option("--frontal-intrinsics", opts->intrinsics[0],
+                  "The frontal camera's intrinsics from elsewhere (an OpenCV calibration file); no views needed for it");
+  cmd->add_option("--lateral-intrinsics", opts->intrinsics[1], "The lateral camera's intrinsics from elsewhere");
+  cmd->add_option("--max-error", opts->limits.max_error_px, "Refuse above this RMS reprojection error (px)")
+      ->check(CLI::Range(0.001, 20.0))
+      ->capture_default_str();
+  cmd->add_option("--min-views", opts->limits.min_views, "Distinct board poses needed per camera")
+      ->check(CLI::Range(3, 1000))
+      ->capture_default_str();
+  cmd->add_option("--axis-tolerance", opts->limits.axis_tolerance_deg,
+                  "Refuse when the optical axes are further than this from 90° apart (degrees)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  cmd->add_option("--write-board", opts->write_board, "Write the board as a PNG to print, and exit");
+  cmd->add_option("--dpi", opts->dpi, "Resolution of --write-board")->check(CLI::Range(20.0, 1200.0))->capture_default_str();
+
+  cmd->callback([opts, &exit_code] {
+    auto usage = [&exit_code](const std::string& message) {
+      spdlog::error("calibrate: {}", message);
+      exit_code.value = 2;
+    };
+    auto squares = parse_squares(opts->squares);
+    if (!squares) return usage(squares.error().message);
+    BoardSpec spec{.kind = opts->board == "chessboard" ? BoardKind::Chessboard : BoardKind::Charuco,
+                   .squares_x = squares->width,
+                   .squares_y = squares->height,
+                   .square_mm = opts->square_mm,
+                   .marker_mm = opts->marker_mm,
+                   .dictionary = opts->dictionary};
+    auto board = CalibrationBoard::create(spec);
+    if (!board) return usage(board.error().message);
+
+    if (!opts->write_board.empty()) {
+      const double px_per_mm = opts->dpi / 25.4;
+      const double margin_mm = 0.5 * spec.square_mm;
+      const cv::Mat image = board->draw(px_per_mm, margin_mm);
+      try {
+        if (!cv::imwrite(opts->write_board, image))
+          return exit_code.fail(Error{fmt::format("{}: cannot be written", opts->write_board)});
+      } catch (const cv::Exception& e) {
+        return exit_code.fail(Error{fmt::format("{}: {}", opts->write_board, e.err)});
+      }
+      fmt::print("{}: {}; {}x{} px at {} dpi = {:.0f} x {:.0f} mm with the white margin. Print at 100 % (no "
+                 "scaling), measure a square and give that size as --square-mm.\n",
+                 opts->write_board, board->describe(), image.cols, image.rows, opts->dpi,
+                 image.cols / px_per_mm, image.rows / px_per_mm);
+      return;
+    }
+
+    if (opts->placement.empty()) return usage("give --placement DIR (the board where the subject will stand)");
+    const bool need_views = opts->intrinsics[0].empty() || opts->intrinsics[1].empty();
+    if (need_views && opts->views.empty())
+      return usage("give --views DIR (the board held at poses), or both --frontal-intrinsics and --lateral-intrinsics");
+    const PlacementSpec placement{opts->place == "floor" ? Placement::Floor : Placement::Upright,
+                                  opts->centre_height_mm};
+    if (placement.kind == Placement::Upright && opts->centre_height_mm <= 0)
+      return usage("--place upright needs --board-centre-height MM (the centre of the board's squares above the floor)");
+
+    std::array<CameraFrames, 2> frames;
+    for (int i = 0; i < 2; ++i)
+      if (!opts->intrinsics[i].empty()) {
+        auto given = load_intrinsics(opts->intrinsics[i]);
+        if (!given) return exit_code.fail(given.error());
+        frames[static_cast<std::size_t>(i)].intrinsics = *given;
+      }
+    auto placed = read_recording(opts->placement);
+    if (!placed) return exit_code.fail(placed.error());
+    cv::Size size = placed->size;
+    for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].placement = std::move(placed->grey[static_cast<std::size_t>(i)]);
+    if (!opts->views.empty()) {
+      auto views = read_recording(opts->views);
+      if (!views) return exit_code.fail(views.error());
+      if (views->size != size)
+        return exit_code.fail(Error{fmt::format("{}: {}x{} frames, but {} has {}x{}: record both at the station's "
+                                                "resolution",
+                                                opts->views, views->size.width, views->size.height, opts->placement,
+                                                size.width, size.height)});
+      for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].views = std::move(views->grey[static_cast<std::size_t>(i)]);
+    }
+
+    const StationCalibration result = calibrate_station(*board, frames, size, placement, opts->limits);
+    fmt::print("{}", format_report(result.report));
+    std::fflush(stdout);
+    if (!result.accepted()) {
+      return exit_code.fail(Error{fmt::format("calibrate: refused, nothing written ({} problem{}; see above)",
+                                              result.report.problems.size(),
+                                              result.report.problems.size() == 1 ? "" : "s")});
+    }
+    if (auto s = save_calibration(opts->out, result.rig); !s) return exit_code.fail(s.error());
+    fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
+  });
+}
+
+}  // namespace spinewatch::cli
