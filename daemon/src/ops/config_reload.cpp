@@ -40,6 +40,8 @@ const std::vector<Field>& fields() {
       SW_FIELD(subject, stature_mm), SW_FIELD(subject, mass_kg), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),
       SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
       SW_FIELD(publish, max_clients),
+      SW_FIELD(http, listen), SW_FIELD(http, allow_unauthenticated), SW_FIELD(http, fps), SW_FIELD(http, camera_pixels),
+      SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
   };
   return table;

@@ -141,6 +141,13 @@ const std::vector<Key>& keys() {
       int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
       int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),
 
+      string_key("http.listen", [](Config& c) -> std::string& { return c.http.listen; }),
+      bool_key("http.allow_unauthenticated", [](Config& c) -> bool& { return c.http.allow_unauthenticated; }),
+      double_key("http.fps", [](Config& c) -> double& { return c.http.fps; }, {0.2, 30.0}),
+      bool_key("http.camera_pixels", [](Config& c) -> bool& { return c.http.camera_pixels; }),
+      int_key("http.max_connections", [](Config& c) -> int& { return c.http.max_connections; }, {1, 256}),
+      double_key("http.timeout_s", [](Config& c) -> double& { return c.http.timeout_s; }, {0.5, 300.0}),
+
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),
       int_key("log.status_interval_s", [](Config& c) -> int& { return c.log.status_interval_s; }, {1, 86400}),

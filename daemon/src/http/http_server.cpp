@@ -1,0 +1,481 @@
+#include "spinewatch/daemon/http_server.hpp"
+
+#include <future>
+#include <set>
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "spinewatch/daemon/http_routes.hpp"
+#include "spinewatch/daemon/pipeline.hpp"
+
+namespace spinewatch {
+
+std::string_view live_view_page();  // embedded daemon/src/http/live_view.html
+
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using tcp = asio::ip::tcp;
+
+constexpr std::string_view kBoundary = "spinewatchframe";
+// A picture this recent answers /snapshot at once; an older one waits for the next.
+constexpr std::int64_t kFreshNs = 1'000'000'000;
+// /state and /snapshot keep the live view sampling this long after each request.
+constexpr std::int64_t kWantedNs = 5'000'000'000;
+constexpr auto kStateWait = std::chrono::milliseconds(1500);
+constexpr auto kSnapshotWait = std::chrono::milliseconds(3000);
+
+}  // namespace
+
+class HttpSession;
+
+struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
+  Impl(asio::io_context& io_context, HttpOptions o, HttpHandlers h, StationInfo s, LiveView& l)
+      : io(io_context), options(std::move(o)), handlers(std::move(h)), station(std::move(s)), live(l) {}
+
+  asio::io_context& io;
+  const HttpOptions options;
+  const HttpHandlers handlers;
+  const StationInfo station;
+  LiveView& live;
+  std::optional<tcp::acceptor> acceptor;
+  std::uint16_t port = 0;
+  // I/O thread only:
+  std::set<std::shared_ptr<HttpSession>> sessions;
+  std::shared_ptr<const LiveFrame> latest, latest_picture;
+  bool stopped = false;
+
+  std::atomic<std::uint64_t> connections{0}, connections_total{0}, rejected{0}, timed_out{0}, bad_requests{0},
+      requests{0}, stream_viewers{0}, stream_frames{0}, stream_frames_skipped{0};
+
+  void accept_next();
+  void admit(tcp::socket socket);
+  void forget(const std::shared_ptr<HttpSession>& session);
+  void deliver(std::shared_ptr<const LiveFrame> frame);
+
+  HttpStats stats() const {
+    HttpStats s;
+    s.connections = connections.load();
+    s.connections_total = connections_total.load();
+    s.rejected = rejected.load();
+    s.timed_out = timed_out.load();
+    s.bad_requests = bad_requests.load();
+    s.requests = requests.load();
+    s.stream_viewers = stream_viewers.load();
+    s.stream_frames = stream_frames.load();
+    s.stream_frames_skipped = stream_frames_skipped.load();
+    return s;
+  }
+  DaemonMetrics metrics() const {
+    DaemonMetrics m = handlers.metrics ? handlers.metrics() : DaemonMetrics{};
+    m.http = stats();
+    m.live = live.stats();
+    return m;
+  }
+};
+
+// One connection, on the I/O thread only. Reads requests one at a time
+// (keep-alive), answers each; /stream turns it into a viewer until it closes.
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, std::shared_ptr<HttpServer::Impl> server)
+      : stream_(std::move(socket)), server_(std::move(server)), buffer_(server_->options.max_header_bytes),
+        wait_timer_(server_->io) {}
+
+  void start() { read_request(); }
+
+  // Closes the socket; its pending operations end with operation_aborted.
+  void close() {
+    if (closed_) return;
+    closed_ = true;
+    wait_timer_.cancel();
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
+    stream_.close();
+    if (viewing_) {
+      server_->live.remove_viewer();
+      server_->stream_viewers.fetch_sub(1);
+    }
+    server_->forget(shared_from_this());
+  }
+
+  // A new sample from the live view.
+  void on_frame(const std::shared_ptr<const LiveFrame>& frame) {
+    if (closed_) return;
+    if (viewing_) {
+      if (frame->jpeg) send_part(frame->jpeg);
+      return;
+    }
+    if (waiting_ == HttpRoute::State) answer_state();
+    else if (waiting_ == HttpRoute::Snapshot && frame->jpeg) answer_snapshot(frame->jpeg);
+  }
+
+ private:
+  using Response = http::response<http::string_body>;
+
+  void read_request() {
+    parser_.emplace();
+    parser_->header_limit(static_cast<std::uint32_t>(server_->options.max_header_bytes));
+    parser_->body_limit(1024);
+    stream_.expires_after(server_->options.timeout);
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+  }
+
+  void on_read(beast::error_code ec) {
+    if (closed_) return;
+    if (ec == http::error::end_of_stream || ec == asio::error::eof || ec == asio::error::connection_reset) {
+      close();
+      return;
+    }
+    if (ec == beast::error::timeout) {
+      // An idle keep-alive connection (a browser's) just ends; one that
+      // started a request and did not finish it is cut, and counted.
+      if (buffer_.size() == 0 && !parser_->got_some()) {
+        close();
+        return;
+      }
+      server_->timed_out.fetch_add(1);
+      spdlog::debug("http: {}: no complete request within {} ms; closed", peer(), server_->options.timeout.count());
+      close();
+      return;
+    }
+    if (ec) {
+      server_->bad_requests.fetch_add(1);
+      const bool too_large = ec == http::error::header_limit || ec == http::error::buffer_overflow;
+      spdlog::debug("http: {}: bad request: {}", peer(), ec.message());
+      respond(too_large ? http::status::request_header_fields_too_large
+              : ec == http::error::body_limit ? http::status::payload_too_large
+                                              : http::status::bad_request,
+              "text/plain", fmt::format("{}\n", ec.message()), false);
+      return;
+    }
+    handle(parser_->release());
+  }
+
+  void handle(const http::request<http::string_body>& request) {
+    keep_alive_ = request.keep_alive();
+    const HttpRoute route = route_of(std::string_view(request.target().data(), request.target().size()));
+    if (route == HttpRoute::NotFound) {
+      respond(http::status::not_found, "text/plain", "not found: the live view serves /, /stream, /snapshot, /state, /metrics\n");
+      return;
+    }
+    const auto method = request.method_string();
+    if (std::string_view(method.data(), method.size()) != method_of(route)) {
+      respond(http::status::method_not_allowed, "text/plain", fmt::format("use {}\n", method_of(route)), true,
+              std::string(method_of(route)));
+      return;
+    }
+    HttpServer::Impl& s = *server_;
+    switch (route) {
+      case HttpRoute::Page:
+        respond(http::status::ok, "text/html; charset=utf-8", std::string(live_view_page()));
+        return;
+      case HttpRoute::Metrics:
+        respond(http::status::ok, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s.metrics()));
+        return;
+      case HttpRoute::State: {
+        const std::int64_t now = monotonic_ns();
+        s.live.want_state_until(now + kWantedNs);
+        if (s.latest && now - s.latest->summary.taken_ns < kFreshNs) {
+          answer_state();
+          return;
+        }
+        wait_for_sample(HttpRoute::State, kStateWait);
+        return;
+      }
+      case HttpRoute::Snapshot: {
+        const std::int64_t now = monotonic_ns();
+        s.live.want_picture_until(now + kWantedNs);
+        if (s.latest_picture && now - s.latest_picture->summary.taken_ns < kFreshNs) {
+          answer_snapshot(s.latest_picture->jpeg);
+          return;
+        }
+        wait_for_sample(HttpRoute::Snapshot, kSnapshotWait);
+        return;
+      }
+      case HttpRoute::Stream:
+        start_stream();
+        return;
+      case HttpRoute::RelearnBackground: {
+        const bool taken = s.handlers.relearn_background && s.handlers.relearn_background();
+        if (taken)
+          respond(http::status::accepted, "application/json",
+                  R"({"relearn":true,"message":"the background is learnt again from the next frames; keep the scene empty for a moment"})");
+        else
+          respond(http::status::conflict, "application/json",
+                  fmt::format(R"({{"relearn":false,"message":"silhouette.background = \"{}\": only a learnt background can be re-learnt; capture a stored one with spinewatch background"}})",
+                              s.station.background_mode));
+        return;
+      }
+      case HttpRoute::NotFound:
+        return;
+    }
+  }
+
+  void wait_for_sample(HttpRoute what, std::chrono::milliseconds how_long) {
+    waiting_ = what;
+    wait_timer_.expires_after(how_long);
+    wait_timer_.async_wait([self = shared_from_this(), what](const boost::system::error_code& ec) {
+      if (ec || self->closed_ || self->waiting_ != what) return;
+      if (what == HttpRoute::State) {
+        self->answer_state();  // with what there is (perhaps nothing: the pipeline is stalled)
+      } else if (self->server_->latest_picture) {
+        self->answer_snapshot(self->server_->latest_picture->jpeg);
+      } else {
+        self->respond(http::status::service_unavailable, "text/plain",
+                      "no picture: the station has produced no frame pair within 3 s\n");
+      }
+    });
+  }
+
+  void answer_state() {
+    waiting_ = HttpRoute::NotFound;
+    wait_timer_.cancel();
+    const auto& s = *server_;
+    respond(http::status::ok, "application/json",
+            state_json(s.station, s.metrics(), s.latest ? &s.latest->summary : nullptr, monotonic_ns()));
+  }
+
+  void answer_snapshot(const std::shared_ptr<const std::string>& jpeg) {
+    waiting_ = HttpRoute::NotFound;
+    wait_timer_.cancel();
+    respond(http::status::ok, "image/jpeg", *jpeg);
+  }
+
+  void respond(http::status status, std::string_view type, std::string body, bool keep = true,
+               std::string allow = {}) {
+    auto response = std::make_shared<Response>(status, 11);
+    response->set(http::field::server, "spinewatchd");
+    response->set(http::field::content_type, beast::string_view(type.data(), type.size()));
+    response->set(http::field::cache_control, "no-store");
+    response->set("X-Content-Type-Options", "nosniff");
+    if (!allow.empty()) response->set(http::field::allow, allow);
+    if (type.starts_with("text/html"))
+      response->set("Content-Security-Policy",
+                    "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self'; "
+                    "connect-src 'self'");
+    response->body() = std::move(body);
+    response->keep_alive(keep && keep_alive_);
+    response->prepare_payload();
+    server_->requests.fetch_add(1);
+    stream_.expires_after(server_->options.timeout);
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+                        if (self->closed_) return;
+                        if (ec == beast::error::timeout) self->server_->timed_out.fetch_add(1);
+                        if (ec || !response->keep_alive()) {
+                          self->close();
+                          return;
+                        }
+                        self->read_request();
+                      });
+  }
+
+  // multipart/x-mixed-replace, as ustreamer and mjpg-streamer send it.
+  void start_stream() {
+    viewing_ = true;
+    server_->live.add_viewer();
+    server_->stream_viewers.fetch_add(1);
+    server_->requests.fetch_add(1);
+    beast::error_code ignored;
+    stream_.socket().set_option(asio::socket_base::send_buffer_size(server_->options.stream_send_buffer), ignored);
+    header_ = fmt::format(
+        "HTTP/1.1 200 OK\r\nServer: spinewatchd\r\nContent-Type: multipart/x-mixed-replace;boundary={}\r\n"
+        "Cache-Control: no-store\r\nPragma: no-cache\r\nConnection: close\r\nX-Content-Type-Options: nosniff\r\n\r\n",
+        kBoundary);
+    writing_ = true;
+    stream_.expires_after(server_->options.timeout);
+    asio::async_write(stream_, asio::buffer(header_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->part_written(ec, false);
+    });
+    // A viewer sends nothing more; reading notices when it goes.
+    stream_.socket().async_read_some(asio::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) self->close();
+      else self->keep_discarding();
+    });
+  }
+
+  void keep_discarding() {
+    if (closed_) return;
+    stream_.socket().async_read_some(asio::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) self->close();
+      else self->keep_discarding();
+    });
+  }
+
+  void send_part(const std::shared_ptr<const std::string>& jpeg) {
+    if (writing_) {
+      if (pending_) server_->stream_frames_skipped.fetch_add(1);
+      pending_ = jpeg;
+      return;
+    }
+    in_flight_ = jpeg;
+    part_header_ = fmt::format("--{}\r\nContent-Type: image/jpeg\r\nContent-Length: {}\r\n\r\n", kBoundary, jpeg->size());
+    const std::array<asio::const_buffer, 3> buffers = {asio::buffer(part_header_), asio::buffer(*in_flight_),
+                                                       asio::buffer("\r\n", 2)};
+    writing_ = true;
+    stream_.expires_after(server_->options.timeout);
+    asio::async_write(stream_, buffers, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->part_written(ec, true);
+    });
+  }
+
+  void part_written(beast::error_code ec, bool frame) {
+    writing_ = false;
+    in_flight_.reset();
+    if (closed_) return;
+    if (ec) {
+      if (ec == beast::error::timeout) {
+        server_->timed_out.fetch_add(1);
+        spdlog::warn("http: {}: a /stream viewer took no frame for {} ms; dropped", peer(), server_->options.timeout.count());
+      }
+      close();
+      return;
+    }
+    if (frame) server_->stream_frames.fetch_add(1);
+    if (pending_) send_part(std::exchange(pending_, nullptr));
+    else if (!frame && server_->latest_picture) send_part(server_->latest_picture->jpeg);
+  }
+
+  std::string peer() {
+    beast::error_code ec;
+    const auto p = stream_.socket().remote_endpoint(ec);
+    return ec ? std::string("?") : fmt::format("{}:{}", p.address().to_string(), p.port());
+  }
+
+  beast::tcp_stream stream_;
+  std::shared_ptr<HttpServer::Impl> server_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  asio::steady_timer wait_timer_;
+  HttpRoute waiting_ = HttpRoute::NotFound;  // State or Snapshot while waiting for a sample
+  bool keep_alive_ = false, closed_ = false, viewing_ = false, writing_ = false;
+  std::string header_, part_header_;
+  std::shared_ptr<const std::string> in_flight_, pending_;
+  std::array<char, 256> discard_{};
+};
+
+void HttpServer::Impl::accept_next() {
+  acceptor->async_accept([self = shared_from_this()](const boost::system::error_code& ec, tcp::socket socket) {
+    if (ec == asio::error::operation_aborted || self->stopped || !self->acceptor->is_open()) return;
+    if (ec) {
+      spdlog::error("http: accepting a connection failed: {}", ec.message());
+      auto timer = std::make_shared<asio::steady_timer>(self->io, std::chrono::milliseconds(100));
+      timer->async_wait([self, timer](const boost::system::error_code&) {
+        if (!self->stopped) self->accept_next();
+      });
+      return;
+    }
+    self->admit(std::move(socket));
+    self->accept_next();
+  });
+}
+
+void HttpServer::Impl::admit(tcp::socket socket) {
+  if (sessions.size() >= options.max_connections) {
+    // Answered without waiting: a short reply fits any fresh socket's buffer.
+    rejected.fetch_add(1);
+    static constexpr std::string_view k503 =
+        "HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: 45\r\nConnection: close\r\n\r\n"
+        "too many connections (http.max_connections)\n";
+    boost::system::error_code ignored;
+    socket.non_blocking(true, ignored);
+    socket.write_some(asio::buffer(k503), ignored);
+    socket.shutdown(tcp::socket::shutdown_both, ignored);
+    socket.close(ignored);
+    spdlog::debug("http: connection refused: {} open (http.max_connections)", sessions.size());
+    return;
+  }
+  auto session = std::make_shared<HttpSession>(std::move(socket), shared_from_this());
+  sessions.insert(session);
+  connections.store(sessions.size());
+  connections_total.fetch_add(1);
+  session->start();
+}
+
+void HttpServer::Impl::forget(const std::shared_ptr<HttpSession>& session) {
+  sessions.erase(session);
+  connections.store(sessions.size());
+}
+
+void HttpServer::Impl::deliver(std::shared_ptr<const LiveFrame> frame) {
+  if (stopped) return;
+  latest = frame;
+  if (frame->jpeg) latest_picture = frame;
+  // A session may close (and leave `sessions`) while frames are delivered.
+  std::vector<std::shared_ptr<HttpSession>> all(sessions.begin(), sessions.end());
+  for (auto& s : all) s->on_frame(frame);
+}
+
+HttpServer::HttpServer(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+HttpServer::~HttpServer() { stop(); }
+
+Result<std::unique_ptr<HttpServer>> HttpServer::start(asio::io_context& io, HttpOptions options, HttpHandlers handlers,
+                                                      StationInfo station, LiveView& live) {
+  auto impl = std::make_shared<Impl>(io, std::move(options), std::move(handlers), std::move(station), live);
+  const TcpEndpoint& where = impl->options.endpoint;
+  const std::string label = fmt::format("http {}:{}", where.host, where.port);
+  boost::system::error_code ec;
+  tcp::endpoint endpoint;
+  auto address = asio::ip::make_address(where.host, ec);
+  if (!ec) {
+    endpoint = tcp::endpoint(address, where.port);
+  } else {
+    tcp::resolver resolver(io);
+    auto results = resolver.resolve(where.host, std::to_string(where.port), ec);
+    if (ec || results.empty())
+      return Error{fmt::format("{}: cannot resolve \"{}\": {}", label, where.host, ec.message())};
+    endpoint = *results.begin();
+  }
+  tcp::acceptor acceptor(io);
+  if (acceptor.open(endpoint.protocol(), ec); ec) return Error{fmt::format("{}: {}", label, ec.message())};
+  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
+  if (acceptor.bind(endpoint, ec); ec) return Error{fmt::format("{}: cannot bind: {}", label, ec.message())};
+  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
+    return Error{fmt::format("{}: cannot listen: {}", label, ec.message())};
+  impl->port = acceptor.local_endpoint().port();
+  impl->acceptor.emplace(std::move(acceptor));
+  // The acceptor is used from the I/O thread from here on.
+  asio::post(io, [impl] { impl->accept_next(); });
+  return std::unique_ptr<HttpServer>(new HttpServer(impl));
+}
+
+void HttpServer::on_frame(std::shared_ptr<const LiveFrame> frame) {
+  asio::post(impl_->io, [impl = impl_, frame = std::move(frame)]() mutable { impl->deliver(std::move(frame)); });
+}
+
+void HttpServer::stop() {
+  if (std::exchange(stop_called_, true)) return;
+  auto done = std::make_shared<std::promise<void>>();
+  auto future = done->get_future();
+  asio::post(impl_->io, [impl = impl_, done] {
+    if (!impl->stopped) {
+      impl->stopped = true;
+      boost::system::error_code ignored;
+      if (impl->acceptor) impl->acceptor->close(ignored);
+      std::vector<std::shared_ptr<HttpSession>> all(impl->sessions.begin(), impl->sessions.end());
+      for (auto& s : all) s->close();
+      impl->latest.reset();
+      impl->latest_picture.reset();
+    }
+    done->set_value();
+  });
+  // The I/O thread may already be gone (then the handler is dropped with it).
+  future.wait_for(std::chrono::seconds(1));
+}
+
+std::uint16_t HttpServer::port() const { return impl_->port; }
+
+HttpStats HttpServer::stats() const { return impl_->stats(); }
+
+}  // namespace spinewatch
