@@ -79,6 +79,7 @@ DaemonMetrics sample_metrics() {
   m.publisher.inbox_capacity = 1024;
   m.postures.by_state = {20, 950, 20};
   m.postures.tracking_lost = 4;
+  m.background = {.updates = 900, .relearns = 1, .bootstraps = 2};
   LatencyHistogram h;
   for (int us : {300, 400, 900, 1500, 60'000}) h.observe_us(us);
   m.latency = h.counts();
@@ -122,6 +123,7 @@ TEST(MetricsText, ParsesWithPrometheusClientAndCarriesTheCounters) {
   EXPECT_EQ(s.at("spinewatch_camera_restarts_total{camera=\"frontal\"}"), 1);
   EXPECT_EQ(s.at("spinewatch_postures_total{state=\"tracking\"}"), 950);
   EXPECT_EQ(s.at("spinewatch_tracking_lost_total{}"), 4);
+  EXPECT_EQ(s.at("spinewatch_background_events_total{event=\"bootstrap\"}"), 2);
   EXPECT_EQ(s.at("spinewatch_stream_clients{}"), 3);
   EXPECT_EQ(s.at("spinewatch_stream_clients_dropped_total{reason=\"slow_or_flooding\"}"), 2);
   EXPECT_EQ(s.at("spinewatch_queue_depth{queue=\"pairs\"}"), 2);

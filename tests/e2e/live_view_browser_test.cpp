@@ -2,7 +2,8 @@
 // chromium) loads / from the real daemon on its embedded default, twice a
 // second apart; the page's spine side view (an SVG polyline the page
 // draws from /state) must show a tracked spine both times, and a different
-// one as the phantom bends. A screenshot of the page is left in the build
+// one as the phantom bends, and the page's MJPEG <img> must have received
+// frames (the daemon counts the parts it wrote). A screenshot of the page is left in the build
 // tree (live_view.png; docs/images/live-view.png is one). Where Chromium
 // is missing or cannot start, the test says so and is skipped.
 #include <gtest/gtest.h>
@@ -40,9 +41,15 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
   test::TempDir dir;
   test::HttpDaemon daemon(dir, "fps = 10\n");
   ASSERT_TRUE(daemon.wait_for_state("tracking", test::scaled(20s))) << daemon.process().log();
-  // Snapshots polled instead of the MJPEG stream: a never-ending response
-  // would keep the headless browser's virtual time from running out.
-  const std::string url = "http://127.0.0.1:" + std::to_string(daemon.http_port()) + "/?view=poll";
+  const std::string url = "http://127.0.0.1:" + std::to_string(daemon.http_port()) + "/";
+  const auto frames_written = [&] {
+    const auto m = test::http_get(daemon.http_port(), "/metrics").body;
+    const std::string name = "\nspinewatch_http_stream_frames_total ";
+    const auto at = m.find(name);
+    return at == std::string::npos ? -1L : std::stol(m.substr(at + name.size()));
+  };
+  const long frames_before = frames_written();
+  ASSERT_GE(frames_before, 0);
 
   std::vector<std::string> spines;
   for (int i = 0; i < 2; ++i) {
@@ -57,6 +64,7 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
     EXPECT_EQ(std::count(spines.back().begin(), spines.back().end(), ' '), 16) << spines.back();
   }
   EXPECT_NE(spines[0], spines[1]) << "the spine view did not change while the phantom bends";
+  EXPECT_GT(frames_written(), frames_before) << "the page's MJPEG stream received no frame";
 
   const auto png = std::filesystem::path(SPINEWATCH_BINARY_DIR) / "live_view.png";
   std::filesystem::remove(png);

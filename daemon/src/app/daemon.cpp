@@ -187,6 +187,7 @@ struct Daemon::Impl {
   std::atomic<std::uint64_t> tracking_lost{0};
   TrackingState previous_state = TrackingState::Lost;  // estimator thread only
   std::atomic<double> pairs_per_s{0.0};
+  std::atomic<std::uint64_t> background_updates{0}, background_relearns{0}, background_bootstraps{0};
   const std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
@@ -289,6 +290,9 @@ struct Daemon::Impl {
     m.publisher = publisher->stats();
     for (std::size_t i = 0; i < 3; ++i) m.postures.by_state[i] = postures_by_state[i].load(std::memory_order_relaxed);
     m.postures.tracking_lost = tracking_lost.load(std::memory_order_relaxed);
+    m.background = {background_updates.load(std::memory_order_relaxed),
+                    background_relearns.load(std::memory_order_relaxed),
+                    background_bootstraps.load(std::memory_order_relaxed)};
     m.latency = latency.counts();
     m.pairs_per_s = pairs_per_s.load(std::memory_order_relaxed);
     m.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -303,6 +307,9 @@ struct Daemon::Impl {
     if (previous_state == TrackingState::Tracking && posture.state == TrackingState::Lost)
       tracking_lost.fetch_add(1, std::memory_order_relaxed);
     previous_state = posture.state;
+    background_updates.store(posture.background.updates, std::memory_order_relaxed);
+    background_relearns.store(posture.background.relearns, std::memory_order_relaxed);
+    background_bootstraps.store(posture.background.bootstraps, std::memory_order_relaxed);
     if (live && current_pair) live->offer(*current_pair, posture, estimator->last_trace());
     current_pair = nullptr;
     publisher->publish(encode_posture_line(posture, stream_stats()));

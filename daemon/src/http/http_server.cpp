@@ -270,8 +270,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     stream_.expires_after(server_->options.timeout);
     http::async_write(stream_, *response,
                       [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
-                        if (self->closed_) return;
                         if (ec == beast::error::timeout) self->server_->timed_out.fetch_add(1);
+                        if (self->closed_) return;
                         if (ec || !response->keep_alive()) {
                           self->close();
                           return;
@@ -332,12 +332,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void part_written(beast::error_code ec, bool frame) {
     writing_ = false;
     in_flight_.reset();
+    // Counted before anything else: the timeout also ends the pending
+    // read, whose handler may have closed the session already.
+    if (ec == beast::error::timeout) {
+      server_->timed_out.fetch_add(1);
+      spdlog::warn("http: a /stream viewer took no frame for {} ms; dropped", server_->options.timeout.count());
+    }
     if (closed_) return;
     if (ec) {
-      if (ec == beast::error::timeout) {
-        server_->timed_out.fetch_add(1);
-        spdlog::warn("http: {}: a /stream viewer took no frame for {} ms; dropped", peer(), server_->options.timeout.count());
-      }
       close();
       return;
     }

@@ -61,6 +61,12 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_tracking_lost_total", "counter", "Times tracking was lost (a tracking pair followed by a lost one).")
       .sample(m.postures.tracking_lost);
 
+  Family(out, "spinewatch_background_events_total", "counter",
+         "Background adaptation passes, whole re-learns and bootstraps, both views together.")
+      .sample(m.background.updates, "event=\"update\"")
+      .sample(m.background.relearns, "event=\"relearn\"")
+      .sample(m.background.bootstraps, "event=\"bootstrap\"");
+
   {
     Family h(out, "spinewatch_pair_latency_seconds", "histogram",
              "Per-pair latency: the source handing the pair over to its posture being ready.");

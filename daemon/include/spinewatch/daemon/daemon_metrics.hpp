@@ -35,6 +35,7 @@ struct DaemonMetrics {
   PipelineStats pipeline;
   PublisherStats publisher;
   PostureCounts postures;
+  BackgroundCounts background;  // both views' background updates, re-learns, bootstraps (as in the stream's stats)
   LatencyHistogram::Counts latency;
   LiveViewStats live;
   HttpStats http;
