@@ -15,6 +15,7 @@
 
 #include <benchmark/benchmark.h>
 #include <boost/asio.hpp>
+#include <spdlog/spdlog.h>
 
 #include "spinewatch/daemon/http_server.hpp"
 #include "spinewatch/daemon/live_view.hpp"
@@ -62,6 +63,7 @@ void view(std::uint16_t port, const std::atomic<bool>& stop) {
 
 void BM_PipelinePairWithViewers(benchmark::State& state) {
   const int viewers = static_cast<int>(state.range(0));
+  spdlog::set_level(spdlog::level::warn);
   phantom::PhantomOptions options;
   options.scenario = "flexion";
   options.frames = 90;

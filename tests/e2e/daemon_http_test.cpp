@@ -247,6 +247,11 @@ TEST_F(DaemonHttp, MisbehavingClientsNeverStallThePostureStream) {
   // And the daemon still serves, having counted every refusal and cut.
   const auto m = scrape(daemon.http_port(), dir);
   ASSERT_FALSE(m.empty());
+  std::printf("%.1f s: %d posture lines, longest gap %ld ms; http dropped: %.0f bad requests, %.0f over the limit, %.0f timed out\n",
+              seconds, watcher.lines(), watcher.longest_gap_ms(),
+              m.at("spinewatch_http_connections_dropped_total{reason=\"bad_request\"}"),
+              m.at("spinewatch_http_connections_dropped_total{reason=\"max_connections\"}"),
+              m.at("spinewatch_http_connections_dropped_total{reason=\"timeout\"}"));
   EXPECT_GE(m.at("spinewatch_http_connections_dropped_total{reason=\"bad_request\"}"), 4);
   EXPECT_GE(m.at("spinewatch_http_connections_dropped_total{reason=\"max_connections\"}"), 80);
   EXPECT_GE(m.at("spinewatch_http_connections_dropped_total{reason=\"timeout\"}"), 2) << "the stuck viewer and the slow request";
