@@ -12,6 +12,7 @@
 
 #include <boost/asio.hpp>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "http_client.hpp"
@@ -206,6 +207,70 @@ TEST(ViewCoverage, WholeCutAndNobody) {
   EXPECT_EQ(c.describe(), "cut at top, left");
   m.set(39, 29);
   EXPECT_EQ(view_coverage(m).describe(), "cut at top, bottom, left, right");
+}
+
+// The live view's mailbox: nothing is copied while nobody wants it; with a
+// viewer, at most fps samples a second, each drawn into one JPEG of both
+// views over a plain background; a /state-only request gets samples
+// without pictures.
+TEST(LiveView, SamplesOnlyWhenWantedAtMostFpsAndDrawsWithoutCameraPixels) {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<const LiveFrame>> frames;
+  LiveView live(CameraRig::default_rig(), LiveViewOptions{.fps = 4}, [&](std::shared_ptr<const LiveFrame> f) {
+    std::lock_guard lock(mutex);
+    frames.push_back(std::move(f));
+  });
+  const auto format = FrameFormat::packed(PixelFormat::GREY, 320, 240);
+  FramePair pair;
+  pair.frontal = Frame::owning(format, {}, std::vector<std::uint8_t>(320 * 240, 200));
+  pair.lateral = Frame::owning(format, {}, std::vector<std::uint8_t>(320 * 240, 200));
+  BitMask person(320, 240);
+  for (int y = 60; y < 200; ++y) person.set_span(y, 140, 180);
+  EstimatorTrace trace;
+  trace.silhouette[0] = trace.silhouette[1] = &person;
+  trace.background_source[0] = trace.background_source[1] = BackgroundSource::Learnt;
+  const Posture posture = test::sample_tracking_posture();
+  const auto count = [&] {
+    std::lock_guard lock(mutex);
+    return frames.size();
+  };
+
+  for (int i = 0; i < 50; ++i) live.offer(pair, posture, trace);
+  EXPECT_EQ(live.stats().samples, 0u) << "copied while nobody watched";
+
+  live.add_viewer();
+  for (int i = 0; i < 50; ++i) live.offer(pair, posture, trace);  // well within 250 ms
+  EXPECT_EQ(live.stats().samples, 1u) << "more than fps samples a second";
+  std::this_thread::sleep_for(300ms);
+  live.offer(pair, posture, trace);
+  EXPECT_EQ(live.stats().samples, 2u);
+  ASSERT_TRUE(test::eventually([&] { return count() == 2; }));
+  live.remove_viewer();
+  {
+    std::lock_guard lock(mutex);
+    const LiveFrame& f = *frames.back();
+    ASSERT_TRUE(f.jpeg);
+    EXPECT_EQ(f.summary.posture.seq, 17u);
+    EXPECT_TRUE(f.summary.coverage[0].whole());
+    EXPECT_EQ(f.summary.coverage[0].pixels, person.count());
+    const cv::Mat image = cv::imdecode(cv::Mat(1, static_cast<int>(f.jpeg->size()), CV_8UC1,
+                                               const_cast<char*>(f.jpeg->data())), cv::IMREAD_COLOR);
+    ASSERT_EQ(image.cols, 1280);
+    ASSERT_EQ(image.rows, 508);
+    // Outside the silhouette the plain background, not the frames' grey 200;
+    // inside it the flat silhouette grey.
+    const auto near = [](const cv::Vec3b& p, int v) { return std::abs(p[0] - v) <= 8 && std::abs(p[1] - v) <= 8 && std::abs(p[2] - v) <= 8; };
+    EXPECT_TRUE(near(image.at<cv::Vec3b>(400, 40), 48));
+    EXPECT_TRUE(near(image.at<cv::Vec3b>(400, 680), 48));
+    EXPECT_TRUE(near(image.at<cv::Vec3b>(2 * 150, 2 * 160), 110));
+  }
+  std::this_thread::sleep_for(300ms);
+  live.want_state_until(monotonic_ns() + 1'000'000'000);
+  live.offer(pair, posture, trace);
+  ASSERT_TRUE(test::eventually([&] { return count() == 3; }));
+  std::lock_guard lock(mutex);
+  EXPECT_FALSE(frames.back()->jpeg) << "a /state request needs no picture";
+  EXPECT_EQ(live.stats().frames, 2u);
 }
 
 // The server on its own io_context thread, with a live view nobody feeds.

@@ -445,6 +445,14 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
         options->tcp->host, options->tcp->port));
     spdlog::warn("{}", d.hello_warnings.back());
   }
+  auto http = http_options(d.config, d.overrides);
+  if (!http) return http.error();
+  if (*http && !is_loopback((*http)->endpoint)) {
+    d.hello_warnings.push_back(fmt::format(
+        "unauthenticated: http {}:{} serves the live view to anyone who can reach it (http.allow_unauthenticated)",
+        (*http)->endpoint.host, (*http)->endpoint.port));
+    spdlog::warn("{}", d.hello_warnings.back());
+  }
   auto publisher =
       Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name, d.hello_warnings));
   if (!publisher) return publisher.error();
@@ -464,8 +472,6 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
       return s.error();
   d.estimator = estimator;
 
-  auto http = http_options(d.config, d.overrides);
-  if (!http) return http.error();
   if (*http) {
     const Config::Http& h = d.config.http;
     d.live = std::make_unique<LiveView>(
@@ -491,9 +497,6 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     auto server = HttpServer::start(d.publisher->io_context(), **http, std::move(handlers), std::move(station), *d.live);
     if (!server) return server.error();
     d.http = std::move(server).value();
-    if (!is_loopback((*http)->endpoint))
-      spdlog::warn("unauthenticated: http {}:{} serves the live view to anyone who can reach it (http.allow_unauthenticated)",
-                   (*http)->endpoint.host, d.http->port());
     spdlog::info("live view on http://{}:{}/ ({} pictures/s at most, camera pixels {})", (*http)->endpoint.host,
                  d.http->port(), h.fps, h.camera_pixels ? "shown" : "hidden");
   }
