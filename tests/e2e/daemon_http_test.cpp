@@ -240,10 +240,12 @@ TEST_F(DaemonHttp, MisbehavingClientsNeverStallThePostureStream) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   watcher.finish();
 
-  // The posture stream at its recorded 30 Hz throughout: no silence longer
-  // than a few frame periods.
-  EXPECT_GE(watcher.lines(), static_cast<int>(seconds * 30 * 0.8 / test::kTimeScale)) << seconds << " s";
-  EXPECT_LT(watcher.longest_gap_ms(), 300 * test::kTimeScale) << "the posture stream stalled";
+  // The posture stream at its recorded 30 Hz throughout: no silence
+  // anywhere near the 1 s a client held up by the HTTP server would cause
+  // (measured 51–68 ms on a loaded 2-core VM; the bound leaves room for a
+  // busy CI machine).
+  EXPECT_GE(watcher.lines(), static_cast<int>(seconds * 30 * 0.6 / test::kTimeScale)) << seconds << " s";
+  EXPECT_LT(watcher.longest_gap_ms(), 500 * test::kTimeScale) << "the posture stream stalled";
   // And the daemon still serves, having counted every refusal and cut.
   const auto m = scrape(daemon.http_port(), dir);
   ASSERT_FALSE(m.empty());
