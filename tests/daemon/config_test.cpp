@@ -174,3 +174,29 @@ TEST(Config, AKnownWorkersLandmarksReachTheEstimatorCheckedTogether) {
 
 }  // namespace
 }  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+TEST(Config, HttpKeysAreReadAndChecked) {
+  auto c = parse_config("[http]\nlisten = \"127.0.0.1:8080\"\nfps = 2.5\ncamera_pixels = true\nmax_connections = 4\n"
+                        "timeout_s = 1.5\nallow_unauthenticated = true\n",
+                        "h.toml");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c->http.listen, "127.0.0.1:8080");
+  EXPECT_EQ(c->http.fps, 2.5);
+  EXPECT_TRUE(c->http.camera_pixels);
+  EXPECT_EQ(c->http.max_connections, 4);
+  EXPECT_EQ(c->http.timeout_s, 1.5);
+  EXPECT_TRUE(c->http.allow_unauthenticated);
+  EXPECT_EQ(Config{}.http.listen, "") << "off by default";
+  EXPECT_EQ(parse_config("[http]\nfps = 60\n", "h.toml").error().message, "h.toml:2: http.fps: 60 is out of range [0.2, 30]");
+  EXPECT_EQ(parse_config("\n[http]\nmax_connections = 0\n", "h.toml").error().message,
+            "h.toml:3: http.max_connections: 0 is out of range [1, 256]");
+  EXPECT_EQ(parse_config("[http]\ncamera_pixels = \"yes\"\n", "h.toml").error().message,
+            "h.toml:2: http.camera_pixels: expected true or false, got string");
+  EXPECT_EQ(parse_config("[http]\nport = 8080\n", "h.toml").error().message, "h.toml:2: http.port: unknown key");
+}
+
+}  // namespace
+}  // namespace spinewatch

@@ -48,7 +48,11 @@ class FakePairSource final : public PairSource {
     }
     stop_cv_.notify_all();
   }
-  SourceStats stats() const override { return {frames_.load(), 0}; }
+  SourceStats stats() const override {
+    SourceStats s;
+    s.frames = frames_.load();
+    return s;
+  }
   std::string describe() const override { return "fake"; }
 
  private:

@@ -252,3 +252,47 @@ TEST(Silhouette, WithoutBootstrappingTheLearntMeanStands) {
 
 }  // namespace
 }  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+using namespace test::synthetic;
+
+// The live view's "learn the background again" (PostureEstimator::relearn_background):
+// the stored background is dropped and the next empty frames are learnt
+// as at start; a stored-image mode refuses.
+TEST(Silhouette, ARelearnOnRequestLearnsTheSceneAsItIsNow) {
+  const cv::Mat bg = background_image();
+  SilhouetteOptions options;
+  options.adaptation.adapt_frames = 0;
+  options.learn_frames = 10;
+  SilhouetteExtractor ex(options);
+  ASSERT_TRUE(ex.set_background(view_of(bg)));
+  std::mt19937 rng(9);
+  const cv::Mat lamp = relit(bg, -0.2);
+  const cv::Mat nobody(kH, kW, CV_8U, cv::Scalar(0));
+  ASSERT_TRUE(ex.relearn_background());
+  EXPECT_FALSE(ex.background_ready());
+  EXPECT_EQ(ex.background_model().source(), BackgroundSource::None);
+  for (int i = 0; i < 10; ++i) {
+    const SilhouetteResult r = ex.extract(view_of(compose(lamp, nobody, 1.0, 2.0, rng)));
+    EXPECT_EQ(r.status, SilhouetteStatus::LearningBackground) << "frame " << i;
+  }
+  EXPECT_EQ(ex.background_model().source(), BackgroundSource::Learnt);
+  double error = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) error += std::abs(ex.background_model().row(y)[x] - lamp.at<std::uint8_t>(y, x));
+  EXPECT_LT(error / (kW * kH), 1.5);
+  const SilhouetteResult r = ex.extract(view_of(compose(lamp, person_mask(), 1.0, 2.0, rng)));
+  EXPECT_EQ(r.status, SilhouetteStatus::Person);
+
+  SilhouetteOptions image;
+  image.background = BackgroundMode::Image;
+  SilhouetteExtractor stored(image);
+  ASSERT_TRUE(stored.set_background(view_of(bg)));
+  EXPECT_FALSE(stored.relearn_background());
+  EXPECT_TRUE(stored.background_ready());
+}
+
+}  // namespace
+}  // namespace spinewatch

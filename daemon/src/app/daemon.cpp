@@ -15,6 +15,10 @@
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/client_command.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
+#include "spinewatch/daemon/daemon_metrics.hpp"
+#include "spinewatch/daemon/http_server.hpp"
+#include "spinewatch/daemon/latency_histogram.hpp"
+#include "spinewatch/daemon/live_view.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
@@ -37,7 +41,7 @@ namespace {
 
 // The recording's own calibration describes the rig it was made with; then
 // the station's; then the documented default rig.
-Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan) {
+Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan, std::string& used) {
   std::vector<std::filesystem::path> candidates;
   if (plan.kind == SourcePlan::Kind::Recording) candidates.push_back(plan.recording / "calibration.yaml");
   candidates.emplace_back(config.cameras.calibration);
@@ -55,9 +59,11 @@ Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan) {
       }
     if (auto s = check_image_size(*rig, width, height); !s) return Error{path.string() + ": " + s.error().message};
     spdlog::info("calibration: {}", path.string());
+    used = path.string();
     return rig;
   }
   spdlog::info("calibration: {} not found; using the default rig (docs/calibration.md)", config.cameras.calibration);
+  used.clear();
   return CameraRig::default_rig();
 }
 
@@ -124,6 +130,27 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
   return o;
 }
 
+// The live view (http.listen, --http), off when "" or "none"; loopback
+// unless allowed, exactly as the posture stream's TCP listener.
+Result<std::optional<HttpOptions>> http_options(const Config& config, const DaemonOverrides& overrides) {
+  const std::string listen = overrides.http.value_or(config.http.listen);
+  if (listen.empty() || listen == "none") return std::optional<HttpOptions>{};
+  const std::string where = overrides.http ? "--http " : "http.listen: ";
+  auto endpoint = parse_listen_address(listen);
+  if (!endpoint) return Error{where + endpoint.error().message};
+  if (!is_loopback(*endpoint) && !config.http.allow_unauthenticated)
+    return Error{fmt::format(
+        "{}{}: not a loopback address, and the live view has no authentication: anyone who can reach the port "
+        "would see the station's views and the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH "
+        "tunnel: docs/daemon.md), or set [http] allow_unauthenticated = true to accept that (docs/security.md)",
+        where, listen)};
+  HttpOptions o;
+  o.endpoint = *endpoint;
+  o.max_connections = static_cast<std::size_t>(config.http.max_connections);
+  o.timeout = std::chrono::milliseconds(static_cast<std::int64_t>(config.http.timeout_s * 1000));
+  return std::optional<HttpOptions>(o);
+}
+
 // trigger.controller names the box's serial device: configure it for the
 // camera rate and pulse width and start it before the pipeline starts.
 Result<std::unique_ptr<sync::TriggerController>> start_trigger_controller(const Config& config) {
@@ -161,7 +188,24 @@ struct Daemon::Impl {
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
   std::unique_ptr<AlertMonitor> alerts;      // estimator thread only
   SummaryLabels labels;                      // station and UTC for summary and alert lines
+  // The live view (with --http): its render thread feeds the HTTP server,
+  // which runs on the publisher's I/O thread; stopped in that order, and
+  // declared so that they are destroyed before the publisher.
+  std::unique_ptr<LiveView> live;
+  std::unique_ptr<HttpServer> http;
   std::unique_ptr<Pipeline> pipeline;
+  std::shared_ptr<PostureEstimator> estimator;
+  const FramePair* current_pair = nullptr;  // estimator thread: the pair being turned into a posture
+  std::atomic<bool> relearn_requested{false};  // POST /background/relearn, taken up before the next pair
+
+  // Counters for /metrics and /state (estimator thread writes, relaxed).
+  LatencyHistogram latency;
+  std::array<std::atomic<std::uint64_t>, 3> postures_by_state{};
+  std::atomic<std::uint64_t> tracking_lost{0};
+  TrackingState previous_state = TrackingState::Lost;  // estimator thread only
+  std::atomic<double> pairs_per_s{0.0};
+  std::atomic<std::uint64_t> background_updates{0}, background_relearns{0}, background_bootstraps{0};
+  const std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   SystemdNotifier notifier;
   std::unique_ptr<sync::TriggerController> trigger_controller;  // when trigger.controller is set
   std::string trigger_status;                                    // its last STATUS, or the error
@@ -277,9 +321,34 @@ struct Daemon::Impl {
     return {accepted_reply(*command), true};
   }
 
+  DaemonMetrics metrics() const {
+    DaemonMetrics m;
+    m.pipeline = pipeline ? pipeline->stats() : PipelineStats{};
+    m.publisher = publisher->stats();
+    for (std::size_t i = 0; i < 3; ++i) m.postures.by_state[i] = postures_by_state[i].load(std::memory_order_relaxed);
+    m.postures.tracking_lost = tracking_lost.load(std::memory_order_relaxed);
+    m.background = {background_updates.load(std::memory_order_relaxed),
+                    background_relearns.load(std::memory_order_relaxed),
+                    background_bootstraps.load(std::memory_order_relaxed)};
+    m.latency = latency.counts();
+    m.pairs_per_s = pairs_per_s.load(std::memory_order_relaxed);
+    m.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return m;
+  }
+
   // On the estimator thread: encode and hand over; never blocks.
   void on_posture(const Posture& posture) {
     last_state.store(static_cast<int>(posture.state), std::memory_order_relaxed);
+    latency.observe_us(posture.latency_us);
+    postures_by_state[static_cast<std::size_t>(posture.state)].fetch_add(1, std::memory_order_relaxed);
+    if (previous_state == TrackingState::Tracking && posture.state == TrackingState::Lost)
+      tracking_lost.fetch_add(1, std::memory_order_relaxed);
+    previous_state = posture.state;
+    background_updates.store(posture.background.updates, std::memory_order_relaxed);
+    background_relearns.store(posture.background.relearns, std::memory_order_relaxed);
+    background_bootstraps.store(posture.background.bootstraps, std::memory_order_relaxed);
+    if (live && current_pair) live->offer(*current_pair, posture, estimator->last_trace());
+    current_pair = nullptr;
     std::string line = encode_posture_line(posture, stream_stats());
     if (store && posture.seq % std::uint64_t(config.storage.posture_every) == 0)
       store->add_posture(posture.seq, posture.t_ns, line);
@@ -314,6 +383,7 @@ struct Daemon::Impl {
       const auto now = std::chrono::steady_clock::now();
       const std::uint64_t pairs = pipeline->stats().pairs_processed;
       const double seconds = std::chrono::duration<double>(now - last_status_time).count();
+      pairs_per_s.store(seconds > 0 ? static_cast<double>(pairs - pairs_at_last_status) / seconds : 0.0);
       poll_trigger_controller();
       notifier.status(status_text(seconds > 0 ? static_cast<double>(pairs - pairs_at_last_status) / seconds : 0.0));
       pairs_at_last_status = pairs;
@@ -411,7 +481,8 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     spdlog::info("running the embedded default: phantom recording {} replayed in a loop at its recorded rate",
                  plan->recording.string());
 
-  auto rig = load_rig(d.config, *plan);
+  std::string calibration_used;
+  auto rig = load_rig(d.config, *plan, calibration_used);
   if (!rig) return rig.error();
   d.rig = *rig;
 
@@ -430,6 +501,14 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     d.hello_warnings.push_back(fmt::format(
         "unauthenticated: tcp {}:{} serves the posture stream to anyone who can reach it (publish.allow_unauthenticated)",
         options->tcp->host, options->tcp->port));
+    spdlog::warn("{}", d.hello_warnings.back());
+  }
+  auto http = http_options(d.config, d.overrides);
+  if (!http) return http.error();
+  if (*http && !is_loopback((*http)->endpoint)) {
+    d.hello_warnings.push_back(fmt::format(
+        "unauthenticated: http {}:{} serves the live view to anyone who can reach it (http.allow_unauthenticated)",
+        (*http)->endpoint.host, (*http)->endpoint.port));
     spdlog::warn("{}", d.hello_warnings.back());
   }
   auto publisher =
@@ -466,10 +545,43 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
+  d.estimator = estimator;
+
+  if (*http) {
+    const Config::Http& h = d.config.http;
+    d.live = std::make_unique<LiveView>(
+        d.rig, LiveViewOptions{.fps = h.fps, .camera_pixels = h.camera_pixels, .note = d.config.station.name},
+        [&d](std::shared_ptr<const LiveFrame> frame) {
+          if (d.http) d.http->on_frame(std::move(frame));
+        });
+    StationInfo station{.station = d.config.station.name,
+                        .source = d.source_name,
+                        .calibration = calibration_used.empty() ? "default rig" : calibration_used,
+                        .default_rig = calibration_used.empty(),
+                        .background_mode = d.config.silhouette.background,
+                        .relearn_available = d.config.silhouette.background == "learn",
+                        .fps = h.fps,
+                        .camera_pixels = h.camera_pixels};
+    HttpHandlers handlers{.metrics = [&d] { return d.metrics(); },
+                          .relearn_background = [&d] {
+                            if (d.config.silhouette.background != "learn") return false;
+                            spdlog::info("http: background re-learning requested");
+                            d.relearn_requested.store(true);
+                            return true;
+                          }};
+    auto server = HttpServer::start(d.publisher->io_context(), **http, std::move(handlers), std::move(station), *d.live);
+    if (!server) return server.error();
+    d.http = std::move(server).value();
+    spdlog::info("live view on http://{}:{}/ ({} pictures/s at most, camera pixels {})", (*http)->endpoint.host,
+                 d.http->port(), h.fps, h.camera_pixels ? "shown" : "hidden");
+  }
+
   d.pipeline = std::make_unique<Pipeline>(
       std::move(source).value(),
       [estimator, &d](const FramePair& pair) {
         if (auto worker = d.take_pending_worker()) estimator->set_worker(*worker);
+        if (d.relearn_requested.exchange(false)) estimator->relearn_background();
+        d.current_pair = &pair;  // for the live view, in on_posture right after
         return estimator->process(pair);
       },
       [&d](const Posture& posture) { d.on_posture(posture); },
@@ -494,6 +606,8 @@ int Daemon::run() {
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
   d.publish_summaries(d.summaries->finish());  // the last partial interval
+  if (d.http) d.http->stop();
+  if (d.live) d.live->stop();
   d.publisher->stop();
   if (d.store) {
     d.store->add_event("info", "stopped: " + d.status_text(0.0));

@@ -14,6 +14,7 @@ namespace spinewatch {
 struct DaemonOverrides {  // from the command line; win over [publish]
   std::optional<std::string> listen;
   std::optional<std::string> unix_socket;
+  std::optional<std::string> http;  // wins over [http] listen
 };
 
 class Daemon {

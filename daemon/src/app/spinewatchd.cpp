@@ -11,10 +11,11 @@ int main(int argc, char** argv) {
   CLI::App app{"spinewatchd: spine posture daemon; publishes the posture stream on its sockets", "spinewatchd"};
   app.set_version_flag("--version", kVersion);
   std::string config_path = "/etc/spinewatch/spinewatch.toml";
-  std::string listen, unix_socket;
+  std::string listen, unix_socket, http;
   app.add_option("--config", config_path, "TOML configuration file")->capture_default_str();
   auto* listen_opt = app.add_option("--listen", listen, "TCP address HOST:PORT, or none (overrides publish.listen)");
   auto* unix_opt = app.add_option("--unix", unix_socket, "Unix socket path, or none (overrides publish.unix_socket)");
+  auto* http_opt = app.add_option("--http", http, "live view and metrics at HOST:PORT, or none (overrides http.listen)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   DaemonOverrides overrides;
   if (*listen_opt) overrides.listen = listen;
   if (*unix_opt) overrides.unix_socket = unix_socket;
+  if (*http_opt) overrides.http = http;
   auto daemon = Daemon::create(config_path, std::move(config).value(), overrides);
   if (!daemon) {
     spdlog::error("{}", daemon.error().message);

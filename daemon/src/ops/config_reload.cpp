@@ -45,6 +45,8 @@ const std::vector<Field>& fields() {
       SW_FIELD(alerts, enabled), SW_FIELD(alerts, rules),
       SW_FIELD(storage, path), SW_FIELD(storage, posture_every), SW_FIELD(storage, retention_days),
       SW_FIELD(storage, max_size_mb),
+      SW_FIELD(http, listen), SW_FIELD(http, allow_unauthenticated), SW_FIELD(http, fps), SW_FIELD(http, camera_pixels),
+      SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
   };
   return table;

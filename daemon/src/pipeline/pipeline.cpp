@@ -76,6 +76,8 @@ PipelineStats Pipeline::stats() const {
   s.pairs = pairs_.load(std::memory_order_relaxed);
   s.pairs_dropped = pairs_dropped_.load(std::memory_order_relaxed);
   s.pairs_processed = pairs_processed_.load(std::memory_order_relaxed);
+  s.pair_queue = queue_.size();
+  s.pair_queue_capacity = queue_.capacity();
   s.source = source_->stats();
   return s;
 }

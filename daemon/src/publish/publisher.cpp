@@ -298,6 +298,8 @@ void Publisher::stop() {
   }
 }
 
+asio::io_context& Publisher::io_context() { return impl_->io; }
+
 std::uint16_t Publisher::tcp_port() const { return impl_->tcp_port; }
 
 std::optional<std::filesystem::path> Publisher::unix_socket() const { return impl_->options.unix_socket; }
@@ -310,6 +312,11 @@ PublisherStats Publisher::stats() const {
   s.clients_rejected = impl_->clients_rejected.load();
   s.lines = impl_->lines.load();
   s.lines_dropped = impl_->lines_dropped.load();
+  {
+    std::lock_guard lock(impl_->inbox_mutex);
+    s.inbox = impl_->inbox.size();
+  }
+  s.inbox_capacity = impl_->options.inbox;
   return s;
 }
 

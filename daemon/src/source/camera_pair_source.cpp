@@ -78,7 +78,11 @@ class CameraPairSource final : public PairSource {
     out.frames = s.frames_in[0] + s.frames_in[1];
     out.frames_lost = 2 * pairs_overflowed_;
     for (const auto& d : s.drops) out.frames_lost += d.total_discarded() + d.sequence_gaps;
-    for (const auto& camera : cameras_) out.frames_lost += camera->counters().dropped_error;
+    for (int i = 0; i < 2; ++i) {
+      const CameraCounters c = cameras_[i]->counters();
+      out.frames_lost += c.dropped_error;
+      out.camera[i] = {.frames = c.frames, .restarts = c.restarts};
+    }
     return out;
   }
 

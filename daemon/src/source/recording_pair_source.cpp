@@ -33,7 +33,11 @@ class RecordingPairSource final : public PairSource {
 
   void stop() override { source_.stop(); }
 
-  SourceStats stats() const override { return {frames_.load(), frames_lost_.load()}; }
+  SourceStats stats() const override {
+    SourceStats s{frames_.load(), frames_lost_.load(), {}};
+    for (int i = 0; i < 2; ++i) s.camera[i].frames = view_frames_[i].load(std::memory_order_relaxed);
+    return s;
+  }
 
   std::string describe() const override { return description_; }
 
@@ -44,6 +48,7 @@ class RecordingPairSource final : public PairSource {
     for (const auto& d : s.drops) lost += d.total_discarded() + d.sequence_gaps;
     frames_.store(s.frames_in[0] + s.frames_in[1], std::memory_order_relaxed);
     frames_lost_.store(lost, std::memory_order_relaxed);
+    for (int i = 0; i < 2; ++i) view_frames_[i].store(s.frames_in[i], std::memory_order_relaxed);
   }
 
   RecordingSource source_;
@@ -51,6 +56,7 @@ class RecordingPairSource final : public PairSource {
   std::string description_;
   bool ended_ = false;
   std::atomic<std::uint64_t> frames_{0}, frames_lost_{0};
+  std::atomic<std::uint64_t> view_frames_[2] = {0, 0};
 };
 
 }  // namespace

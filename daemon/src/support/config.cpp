@@ -153,6 +153,12 @@ const std::vector<Key>& keys() {
       int_key("storage.posture_every", [](Config& c) -> int& { return c.storage.posture_every; }, {1, 1000000}),
       double_key("storage.retention_days", [](Config& c) -> double& { return c.storage.retention_days; }, {1e-5, 36500.0}),
       double_key("storage.max_size_mb", [](Config& c) -> double& { return c.storage.max_size_mb; }, {0.0, 1e7}),
+      string_key("http.listen", [](Config& c) -> std::string& { return c.http.listen; }),
+      bool_key("http.allow_unauthenticated", [](Config& c) -> bool& { return c.http.allow_unauthenticated; }),
+      double_key("http.fps", [](Config& c) -> double& { return c.http.fps; }, {0.2, 30.0}),
+      bool_key("http.camera_pixels", [](Config& c) -> bool& { return c.http.camera_pixels; }),
+      int_key("http.max_connections", [](Config& c) -> int& { return c.http.max_connections; }, {1, 256}),
+      double_key("http.timeout_s", [](Config& c) -> double& { return c.http.timeout_s; }, {0.5, 300.0}),
 
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),

@@ -238,6 +238,19 @@ Status PostureEstimator::set_backgrounds(const LumaView& frontal, const LumaView
 
 void PostureEstimator::set_worker(const KnownWorker& worker) { impl_->set_worker(worker); }
 
+bool PostureEstimator::relearn_background() {
+  Impl& m = *impl_;
+  bool relearning = false;
+  for (SilhouetteExtractor& s : m.silhouettes) relearning = s.relearn_background() || relearning;
+  if (!relearning) return false;
+  // The fit's gates came from the old background's silhouettes.
+  for (auto& g : m.gates) g.active = false;
+  m.dynamics_reset_pending = true;
+  m.previous_t_ns.reset();
+  spdlog::info("estimator: background dropped on request; learning it again from the next frames");
+  return true;
+}
+
 EstimatorTrace PostureEstimator::last_trace() const {
   const Impl& m = *impl_;
   EstimatorTrace trace;
@@ -248,6 +261,8 @@ EstimatorTrace PostureEstimator::last_trace() const {
   trace.body_model = m.tracker.subject_model();
   trace.background[0] = &m.silhouettes[0].background();
   trace.background[1] = &m.silhouettes[1].background();
+  trace.background_source[0] = m.silhouettes[0].background_model().source();
+  trace.background_source[1] = m.silhouettes[1].background_model().source();
   return trace;
 }
 

@@ -50,6 +50,15 @@ bool SilhouetteExtractor::background_ready() const {
   return model_.ready() || options_.background == BackgroundMode::Threshold;
 }
 
+bool SilhouetteExtractor::relearn_background() {
+  if (options_.background != BackgroundMode::Learn) return false;
+  model_.clear();
+  bootstrapping_ = false;
+  bootstrap_.reset();
+  person_ = BitMask{};
+  return true;
+}
+
 Status SilhouetteExtractor::set_background(const LumaView& bg) {
   if (bg.data == nullptr || bg.width <= 0 || bg.height <= 0)
     return Error{"silhouette background: empty image"};

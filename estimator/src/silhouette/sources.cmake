@@ -6,4 +6,5 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/blob_cleaning.cpp
   ${CMAKE_CURRENT_LIST_DIR}/background_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/background_bootstrap.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/person_prior.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/person_prior.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/view_coverage.cpp)

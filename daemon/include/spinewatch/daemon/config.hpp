@@ -122,6 +122,18 @@ struct Config {
     double max_size_mb = 0;         // the database's size limit; 0 = the disk's
     bool operator==(const Storage&) const = default;
   } storage;
+  struct Http {
+    // The live view and /metrics (interfaces.md §5): HOST:PORT, or "" / "none" = off.
+    std::string listen = "";
+    // Like publish.allow_unauthenticated, for the HTTP server: a non-loopback
+    // address is refused at start unless this is true.
+    bool allow_unauthenticated = false;
+    double fps = 5.0;            // live view pictures a second at most, drawn only while someone watches
+    bool camera_pixels = false;  // the views over the cameras' pixels; false: a plain background (privacy)
+    int max_connections = 16;
+    double timeout_s = 10.0;     // a request must arrive, and each response or stream frame be taken, within this
+    bool operator==(const Http&) const = default;
+  } http;
 
   struct Log {
     std::string level = "info";  // trace | debug | info | warn | error

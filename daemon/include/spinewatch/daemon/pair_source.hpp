@@ -9,9 +9,16 @@
 
 namespace spinewatch {
 
+// One camera's (or one view of a recording's) share.
+struct CameraSourceStats {
+  std::uint64_t frames = 0;    // delivered by this camera
+  std::uint64_t restarts = 0;  // reopened after a device loss (cameras only)
+};
+
 struct SourceStats {
   std::uint64_t frames = 0;       // frames delivered by the camera(s) or recording
   std::uint64_t frames_lost = 0;  // frames that never became part of a pair (unpaired, driver drops)
+  CameraSourceStats camera[2];    // frontal, lateral
 };
 
 class PairSource {

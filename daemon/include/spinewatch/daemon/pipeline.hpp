@@ -31,6 +31,8 @@ struct PipelineStats {
   std::uint64_t pairs = 0;          // pairs taken from the source since start
   std::uint64_t pairs_dropped = 0;  // pairs dropped because the estimator fell behind
   std::uint64_t pairs_processed = 0;
+  std::size_t pair_queue = 0;           // pairs waiting for the estimator now
+  std::size_t pair_queue_capacity = 0;
   SourceStats source;
 };
 

@@ -17,6 +17,10 @@
 
 #include "spinewatch/frames/result.hpp"
 
+namespace boost::asio {
+class io_context;
+}
+
 namespace spinewatch {
 
 struct TcpEndpoint {
@@ -56,6 +60,8 @@ struct PublisherStats {
   std::uint64_t clients_rejected = 0;  // refused because max_clients were connected
   std::uint64_t lines = 0;             // lines published
   std::uint64_t lines_dropped = 0;     // lines dropped from the inbox (I/O thread behind)
+  std::size_t inbox = 0;               // lines waiting for the I/O thread now
+  std::size_t inbox_capacity = 0;
 };
 
 // "HOST:PORT" ("[::1]:7117" for IPv6) → endpoint; "none" is the caller's business.
@@ -85,6 +91,9 @@ class Publisher {
   std::uint16_t tcp_port() const;  // the bound port (0 when TCP is off)
   std::optional<std::filesystem::path> unix_socket() const;
   PublisherStats stats() const;
+  // The I/O thread's event loop, for the daemon's other servers (HTTP) to
+  // run on the same thread; valid while the publisher lives, running until stop().
+  boost::asio::io_context& io_context();
 
  private:
   Publisher();

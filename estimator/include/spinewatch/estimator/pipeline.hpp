@@ -12,6 +12,7 @@
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
+#include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
 #include "spinewatch/frames/result.hpp"
 
@@ -30,6 +31,8 @@ struct EstimatorTrace {
   // Each view's background as it stands after this pair (width × height
   // bytes; empty while there is none).
   const std::vector<std::uint8_t>* background[2] = {nullptr, nullptr};
+  // Where each view's background came from (none while learning or bootstrapping).
+  BackgroundSource background_source[2] = {BackgroundSource::None, BackgroundSource::None};
 };
 
 struct EstimatorOptions {
@@ -79,6 +82,13 @@ class PostureEstimator {
   // model and the accurate model are built again from the next upright
   // frames, with what is given of this one. The background is kept.
   void set_worker(const KnownWorker& worker);
+
+  // Learns both views' backgrounds again from the next frames (an
+  // operator's request, the daemon's live view): the tracking starts over
+  // as at start (init, then tracking), the subject's model is kept. False
+  // when the background is not learnt (silhouette.background = image or
+  // threshold): nothing changes.
+  bool relearn_background();
 
   EstimatorTrace last_trace() const;
 

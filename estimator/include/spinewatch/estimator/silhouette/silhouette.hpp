@@ -74,6 +74,12 @@ class SilhouetteExtractor {
   // or Learn with a stored background: no learning needed).
   Status set_background(const LumaView& background);
   bool background_ready() const;
+  // Drops the background, to learn it again from the next frames of an
+  // empty scene (or bootstrap it with the subject in view), as at start:
+  // an operator asked for it after the scene changed. Only with
+  // BackgroundMode::Learn (false otherwise: a stored image or the plain
+  // threshold stays).
+  bool relearn_background();
   const std::vector<std::uint8_t>& background() const { return model_.pixels(); }
   const BackgroundModel& background_model() const { return model_; }
   // Where the subject can be in this view, for bootstrapping (see

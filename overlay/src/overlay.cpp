@@ -1,12 +1,10 @@
-#include "spinewatch/replay/overlay.hpp"
+#include "spinewatch/overlay/overlay.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "spinewatch/estimator/cvsm/body_model.hpp"
@@ -58,17 +56,34 @@ cv::Mat frame_to_bgr(const Frame& frame, int width, int height, int scale) {
   return bgr;
 }
 
+cv::Mat mask_image(const BitMask& mask) {
+  cv::Mat m(mask.height(), mask.width(), CV_8UC1);
+  for (int y = 0; y < mask.height(); ++y) {
+    auto* row = m.ptr<std::uint8_t>(y);
+    for (int x = 0; x < mask.width(); ++x) row[x] = mask.get(x, y) ? 255 : 0;
+  }
+  return m;
+}
+
+bool fits(const BitMask* mask, const cv::Mat& view, int scale) {
+  return mask && !mask->empty() && mask->width() * scale == view.cols && mask->height() * scale <= view.rows;
+}
+
+// Privacy (the live view's default): no camera pixels, only where the
+// silhouette is, flat over a plain background.
+void draw_plain(cv::Mat& view, const BitMask* mask, int scale) {
+  view.setTo(colour::kPlainBackground);
+  if (!fits(mask, view, scale)) return;
+  cv::Mat fill = upscale(mask_image(*mask), scale);
+  view(cv::Rect(0, 0, fill.cols, fill.rows)).setTo(colour::kSilhouetteFill, fill);
+}
+
 // The contours of the upscaled mask: the outline runs along the boundary
 // pixels of the silhouette itself.
 void draw_outline(cv::Mat& view, const BitMask* mask, int scale) {
-  if (!mask || mask->empty() || mask->width() * scale != view.cols || mask->height() * scale > view.rows) return;
-  cv::Mat m(mask->height(), mask->width(), CV_8UC1);
-  for (int y = 0; y < mask->height(); ++y) {
-    auto* row = m.ptr<std::uint8_t>(y);
-    for (int x = 0; x < mask->width(); ++x) row[x] = mask->get(x, y) ? 255 : 0;
-  }
+  if (!fits(mask, view, scale)) return;
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(upscale(m, scale), contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
+  cv::findContours(upscale(mask_image(*mask), scale), contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
   cv::drawContours(view, contours, -1, colour::kOutline, 1);
 }
 
@@ -160,58 +175,32 @@ std::optional<cv::Point2d> overlay_point(const CameraRig& rig, int view, const E
   return p;
 }
 
-cv::Mat render_overlay(const ReplayedPair& in, const OverlayOptions& o) {
-  const FrameFormat& format = in.pair.frontal.format();
-  const int width = static_cast<int>(format.width), height = static_cast<int>(format.height), s = o.scale;
+cv::Mat render_overlay(const OverlayScene& in, const OverlayOptions& o) {
+  static const Posture kNoPosture{};
+  const Posture& posture = in.posture ? *in.posture : kNoPosture;
+  const int width = in.width, height = in.height, s = o.scale;
   cv::Mat canvas(height * s + o.strip_height * s, 2 * width * s, CV_8UC3, cv::Scalar(0, 0, 0));
-  const bool lost = in.posture.state == TrackingState::Lost;
+  const bool lost = posture.state == TrackingState::Lost;
   // The CVSM is drawn once a subject model exists and this pair was fitted
   // (not while the background is still being learnt).
-  const bool fitted = !lost && in.trace.fit && in.trace.body_model && in.trace.fit->state != TrackingState::Lost;
+  const bool fitted = in.rig && !lost && in.fit && in.body_model && in.fit->state != TrackingState::Lost;
   for (int v = 0; v < 2; ++v) {
     cv::Mat view = canvas(cv::Rect(v * width * s, 0, width * s, height * s));
-    frame_to_bgr(v == 0 ? in.pair.frontal : in.pair.lateral, width, height, s).copyTo(view);
-    const CameraModel& camera = camera_of(in.rig, v);
-    if (fitted) draw_cvsm_surface(view, camera, *in.trace.fit, *in.trace.body_model, s);
-    draw_outline(view, in.trace.silhouette[v], s);
-    if (fitted) draw_cvsm_spheres(view, camera, *in.trace.fit, s);
-    if (!lost && in.posture.vertebrae) draw_vertebrae(view, camera, *in.posture.vertebrae, o);
+    if (in.frames[v])
+      frame_to_bgr(*in.frames[v], width, height, s).copyTo(view);
+    else
+      draw_plain(view, in.silhouette[v], s);
+    if (fitted) draw_cvsm_surface(view, camera_of(*in.rig, v), *in.fit, *in.body_model, s);
+    draw_outline(view, in.silhouette[v], s);
+    if (fitted) draw_cvsm_spheres(view, camera_of(*in.rig, v), *in.fit, s);
+    if (in.rig && !lost && posture.vertebrae) draw_vertebrae(view, camera_of(*in.rig, v), *posture.vertebrae, o);
     text(view, v == 0 ? "frontal" : "lateral", cv::Point(4 * s, 10 * s), 0.35 * s, colour::kText);
     if (lost) text(view, "LOST", cv::Point(width * s / 2 - 22 * s, 28 * s), 0.7 * s, colour::kLost);
   }
-  text(canvas, strip_text(in.posture), cv::Point(4 * s, height * s + (o.strip_height - 4) * s), 0.35 * s, colour::kText);
+  std::string strip = strip_text(posture);
+  if (!in.note.empty()) strip += "   " + in.note;
+  text(canvas, strip, cv::Point(4 * s, height * s + (o.strip_height - 4) * s), 0.35 * s, colour::kText);
   return canvas;
-}
-
-Result<OverlayWriter> OverlayWriter::create(const std::filesystem::path& dir, std::uint64_t every,
-                                            OverlayOptions options) {
-  if (every == 0) return Error{"overlay: --every must be at least 1"};
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir))
-    return Error{fmt::format("{}: cannot create the overlay directory ({})", dir.string(),
-                             ec ? ec.message() : "not a directory")};
-  // Probe now rather than after a whole replay.
-  const auto probe = dir / ".spinewatch-overlay-probe";
-  if (!std::ofstream(probe)) return Error{fmt::format("{}: the overlay directory is not writable", dir.string())};
-  std::filesystem::remove(probe, ec);
-  return OverlayWriter(dir, every, options);
-}
-
-Status OverlayWriter::write(const ReplayedPair& pair) {
-  if (seen_++ % every_ != 0) return Ok{};
-  const auto path = dir_ / fmt::format("pair_{:06d}.png", pair.posture.seq);
-  bool ok = false;
-  // zlib level 3: ~10 % larger files than level 9 at a tenth of the time
-  // (25 ms against 250 ms a pair here), so --every 1 stays usable.
-  try {
-    ok = cv::imwrite(path.string(), render_overlay(pair, options_), {cv::IMWRITE_PNG_COMPRESSION, 3});
-  } catch (const cv::Exception& e) {
-    return Error{fmt::format("{}: cannot be written ({})", path.string(), e.what())};
-  }
-  if (!ok) return Error{fmt::format("{}: cannot be written", path.string())};
-  ++written_;
-  return Ok{};
 }
 
 }  // namespace spinewatch

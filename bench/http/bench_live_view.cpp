@@ -1,0 +1,142 @@
+// The live view's cost to the pipeline: the estimator thread's time per
+// pair (PostureEstimator::process, then LiveView::offer, as in spinewatchd)
+// with no viewer and with five MJPEG viewers connected to the real HTTP
+// server over loopback, each draining /stream on its own thread. The
+// pictures are drawn and encoded on the live view's thread (http.fps = 5);
+// the estimator thread only copies a sample when one is due.
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <thread>
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+
+#include <benchmark/benchmark.h>
+#include <boost/asio.hpp>
+#include <spdlog/spdlog.h>
+
+#include "spinewatch/daemon/http_server.hpp"
+#include "spinewatch/daemon/live_view.hpp"
+#include "spinewatch/estimator/pipeline.hpp"
+#include "spinewatch/phantom/phantom.hpp"
+
+namespace spinewatch {
+namespace {
+
+constexpr std::int64_t kPeriodNs = 33'333'333;
+
+// Phantom flexion pairs as the cameras deliver them (YUYV).
+std::vector<FramePair> flexion_pairs(const phantom::PhantomOptions& options) {
+  std::vector<FramePair> pairs;
+  auto seq = phantom::PhantomSequence::create(options);
+  if (!seq.ok()) return pairs;
+  const auto format = FrameFormat::packed(PixelFormat::YUYV, 320, 240);
+  for (int i = 0; i < seq->frame_count(); ++i) {
+    const auto frame = seq->render(i);
+    FramePair p;
+    p.frontal = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 0));
+    p.lateral = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 1));
+    pairs.push_back(std::move(p));
+  }
+  return pairs;
+}
+
+// A viewer: GET /stream, then read and discard until told to stop.
+void view(std::uint16_t port, const std::atomic<bool>& stop) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  timeval tv{0, 100'000};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+    const std::string request = "GET /stream HTTP/1.1\r\nHost: bench\r\n\r\n";
+    ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+    char buffer[65536];
+    while (!stop) ::recv(fd, buffer, sizeof buffer, 0);
+  }
+  ::close(fd);
+}
+
+void BM_PipelinePairWithViewers(benchmark::State& state) {
+  const int viewers = static_cast<int>(state.range(0));
+  spdlog::set_level(spdlog::level::warn);
+  phantom::PhantomOptions options;
+  options.scenario = "flexion";
+  options.frames = 90;
+  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
+  if (!subject.ok()) {
+    state.SkipWithError(subject.error().message.c_str());
+    return;
+  }
+  options.subject = *subject;
+  const auto pairs = flexion_pairs(options);
+  if (pairs.empty()) {
+    state.SkipWithError("phantom frames");
+    return;
+  }
+  EstimatorOptions estimator_options;
+  estimator_options.spine_placement = SpinePlacementMode::Generic;  // the petite subject is a generic one
+  PostureEstimator estimator(options.rig, estimator_options);
+
+  boost::asio::io_context io;
+  auto work = boost::asio::make_work_guard(io);
+  std::unique_ptr<HttpServer> server;
+  LiveView live(options.rig, LiveViewOptions{.fps = 5.0}, [&server](std::shared_ptr<const LiveFrame> f) {
+    if (server) server->on_frame(std::move(f));
+  });
+  auto started = HttpServer::start(io, HttpOptions{.endpoint = {"127.0.0.1", 0}}, HttpHandlers{}, StationInfo{}, live);
+  if (!started.ok()) {
+    state.SkipWithError(started.error().message.c_str());
+    return;
+  }
+  server = std::move(started).value();
+  std::thread io_thread([&io] { io.run(); });
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> viewer_threads;
+  for (int i = 0; i < viewers; ++i) viewer_threads.emplace_back(view, server->port(), std::cref(stop));
+  while (server->stats().stream_viewers < static_cast<std::uint64_t>(viewers)) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+
+  std::uint64_t k = 0;
+  auto one_pair = [&](std::size_t i) {
+    FramePair pair = pairs[i];
+    pair.sequence = k;
+    pair.timestamp_ns = static_cast<std::int64_t>(k) * kPeriodNs;
+    ++k;
+    const Posture posture = estimator.process(pair);
+    live.offer(pair, posture, estimator.last_trace());
+    return posture;
+  };
+  const int first_tracked = options.empty_frames + EstimatorOptions{}.subject_frames;
+  for (int i = 0; i < first_tracked; ++i) one_pair(static_cast<std::size_t>(i));
+  const int n = static_cast<int>(pairs.size()) - first_tracked;
+  int phase_k = 0, lost = 0;
+  const auto frames_before = live.stats().frames;
+  for (auto _ : state) {
+    const int phase = phase_k++ % (2 * n - 2);
+    const Posture p = one_pair(static_cast<std::size_t>(first_tracked + (phase < n ? phase : 2 * n - 2 - phase)));
+    lost += p.state == TrackingState::Lost;
+    benchmark::DoNotOptimize(p.waist);
+  }
+  const auto frames = live.stats().frames - frames_before;
+  state.counters["lost"] = lost;
+  state.counters["viewers"] = static_cast<double>(server->stats().stream_viewers);
+  state.counters["jpegs"] = static_cast<double>(frames);
+
+  stop = true;
+  for (auto& t : viewer_threads) t.join();
+  server->stop();
+  live.stop();
+  work.reset();
+  io.stop();
+  io_thread.join();
+}
+BENCHMARK(BM_PipelinePairWithViewers)->Arg(0)->Arg(5)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+}  // namespace
+}  // namespace spinewatch
+
+BENCHMARK_MAIN();

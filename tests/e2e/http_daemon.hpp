@@ -1,0 +1,72 @@
+#pragma once
+// The real spinewatchd on its embedded default (the bundled phantom
+// recording, looped at its recorded rate) with the HTTP live view on, for
+// the live view's end-to-end and browser tests.
+#include <sys/socket.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "../daemon/http_client.hpp"
+#include "daemon_process.hpp"
+#include "test_support.hpp"
+
+namespace spinewatch::test {
+
+inline std::uint16_t free_port() {
+  int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+class HttpDaemon {
+ public:
+  // `http_keys`: lines of the [http] section (listen comes from --http).
+  HttpDaemon(const TempDir& dir, const std::string& http_keys)
+      : stream_port_(free_port()), http_port_(free_port()) {
+    const auto config = dir / "spinewatch.toml";
+    write_file(config, "[station]\nname = \"live\"\n[cameras]\nsource = \"recording\"\nrecording = \"\"\n"
+                       "frontal = \"/nonexistent/video0\"\nlateral = \"/nonexistent/video2\"\n"
+                       "calibration = \"/nonexistent/cal.yaml\"\n[publish]\nclient_queue = 100000\n[http]\n" +
+                           http_keys);
+    daemon_.emplace(std::vector<std::string>{SPINEWATCHD, "--config", config.string(), "--listen",
+                                             "127.0.0.1:" + std::to_string(stream_port_), "--unix", "none", "--http",
+                                             "127.0.0.1:" + std::to_string(http_port_)},
+                    dir / "daemon.log");
+  }
+  ~HttpDaemon() {
+    if (daemon_ && daemon_->running()) {
+      daemon_->signal(SIGTERM);
+      daemon_->wait_exit(scaled(std::chrono::milliseconds(3000)));
+    }
+  }
+  DaemonProcess& process() { return *daemon_; }
+  std::uint16_t http_port() const { return http_port_; }
+  std::uint16_t stream_port() const { return stream_port_; }
+
+  // Waits until /state answers with `state` (e.g. "tracking").
+  bool wait_for_state(const std::string& state, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline && daemon_->running()) {
+      const auto r = http_get(http_port_, "/state", std::chrono::seconds(3));
+      if (r.status == 200 && nlohmann::json::parse(r.body).at("state") == state) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  }
+
+ private:
+  std::uint16_t stream_port_, http_port_;
+  std::optional<DaemonProcess> daemon_;
+};
+
+}  // namespace spinewatch::test
