@@ -115,6 +115,29 @@ TEST_F(BadCalibration, NotARotation) {
   EXPECT_NE(msg.find("lateral.R: not a rotation matrix"), std::string::npos) << msg;
 }
 
+// Found by the calibration_yaml fuzzer (tests/fuzz): OpenCV sized the
+// matrix from a corrupt header before reading its data and asked for
+// 48 GB. The header is checked first now.
+TEST_F(BadCalibration, AHeaderAskingForAHugeMatrixIsAnErrorNotAnAllocation) {
+  for (const std::string cols : {"cols:ols: 3", "cols: 2147483647", "cols: -3", "cols: 3.5"}) {
+    std::string frontal = camera("frontal");
+    frontal.replace(frontal.find("cols: 3"), 7, cols);
+    const auto msg = load_error("%YAML:1.0\n---\n" + frontal + camera("lateral"));
+    EXPECT_NE(msg.find("calibration.yaml: frontal.camera_matrix: not a matrix (rows and cols must be integers 1..16)"),
+              std::string::npos)
+        << cols << ": " << msg;
+  }
+}
+
+// Found by the calibration_yaml fuzzer: this file made OpenCV's reader
+// throw std::length_error, which was not caught and ended the program.
+TEST_F(BadCalibration, AFileThatMakesOpenCvThrowAStandardExceptionIsAnError) {
+  const auto msg = load_error(
+      test::read_file(test::source_path("tests/fuzz/corpus/calibration_yaml/regression-length-error-terminates.yaml")));
+  EXPECT_NE(msg.find("calibration.yaml: not an OpenCV FileStorage file ("), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+}
+
 TEST_F(BadCalibration, NotYaml) {
   const auto msg = load_error("this is not: [a calibration\n");
   EXPECT_NE(msg.find("calibration.yaml"), std::string::npos) << msg;

@@ -7,18 +7,40 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/frames/printable.hpp"
 
 namespace spinewatch {
 namespace {
+
+// OpenCV sizes a matrix from its header before it reads the data, so a
+// corrupt header ("cols: 2147483647") would have it allocate gigabytes:
+// the header is checked first. No matrix here has more than 9 elements.
+Status check_matrix_header(const cv::FileNode& node, const std::string& where, const char* key) {
+  constexpr int kMaxSide = 16;
+  const auto small = [](const cv::FileNode& n) { return n.isInt() && int(n) >= 1 && int(n) <= kMaxSide; };
+  const auto bad = [&] {
+    return Error{fmt::format("{}.{}: not a matrix (rows and cols must be integers 1..{})", where, key, kMaxSide)};
+  };
+  if (!node.isMap()) return Error{fmt::format("{}.{}: not a matrix", where, key)};
+  if (const cv::FileNode sizes = node["sizes"]; !sizes.empty()) {  // opencv-nd-matrix
+    if (!sizes.isSeq() || sizes.size() < 1 || sizes.size() > 2) return bad();
+    for (const cv::FileNode& side : sizes)
+      if (!small(side)) return bad();
+    return Ok{};
+  }
+  if (!small(node["rows"]) || !small(node["cols"])) return bad();
+  return Ok{};
+}
 
 Result<cv::Mat> read_matrix(const cv::FileNode& camera, const std::string& where, const char* key,
                             int rows, int cols) {
   const cv::FileNode node = camera[key];
   if (node.empty()) return Error{fmt::format("{}.{}: missing", where, key)};
+  if (auto header = check_matrix_header(node, where, key); !header) return header.error();
   cv::Mat m;
   try {
     node >> m;
-  } catch (const cv::Exception&) {
+  } catch (const std::exception&) {  // cv::Exception, or a standard one from OpenCV's reader
     return Error{fmt::format("{}.{}: not a matrix", where, key)};
   }
   if (m.empty()) return Error{fmt::format("{}.{}: not a matrix", where, key)};
@@ -69,7 +91,12 @@ Result<CameraRig> load_calibration(const std::filesystem::path& path) {
   try {
     if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
   } catch (const cv::Exception& e) {
-    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, e.err)};
+    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.err))};
+  } catch (const std::exception& e) {
+    // OpenCV's parsers let standard exceptions through too: found by the
+    // calibration_yaml fuzzer (tests/fuzz), a corrupt file made it throw
+    // std::length_error, which ended the program.
+    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.what()))};
   }
   auto frontal = read_camera(fs, file, "frontal");
   if (!frontal) return frontal.error();
