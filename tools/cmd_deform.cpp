@@ -5,7 +5,6 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -18,6 +17,7 @@
 #include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/stiffness_fit.hpp"
 #include "spinewatch/estimator/spine/target_lines.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::cli {
 namespace {
@@ -32,11 +32,9 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
   }
   DynamicsOptions options;
   if (!stiffness_path.empty()) {
-    std::ifstream in(stiffness_path);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto scale = in ? parse_stiffness_fragment(text.str(), stiffness_path)
-                    : Result<std::array<double, kJointCount>>(Error{fmt::format("{}: cannot open", stiffness_path)});
+    auto text = read_text_file(stiffness_path);
+    auto scale = text ? parse_stiffness_fragment(*text, stiffness_path)
+                      : Result<std::array<double, kJointCount>>(text.error());
     if (!scale) {
       spdlog::error("{}", scale.error().message);
       return 1;
@@ -44,14 +42,12 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
     options.bending_scale = *scale;
   }
   // Read every line first: a bad line fails the run before any output.
-  std::ifstream in(targets_path);
-  if (!in) {
-    spdlog::error("{}: cannot open", targets_path);
+  auto targets_text = read_text_file(targets_path);
+  if (!targets_text) {
+    spdlog::error("{}", targets_text.error().message);
     return 1;
   }
-  std::stringstream targets_text;
-  targets_text << in.rdbuf();
-  auto targets = parse_target_lines(targets_text.str(), targets_path);
+  auto targets = parse_target_lines(*targets_text, targets_path);
   if (!targets) {
     spdlog::error("{}", targets.error().message);
     return 1;

@@ -102,7 +102,7 @@ TEST(Config, AMessageStaysOneLineWhateverTheInputHolds) {
 TEST(Config, MissingFile) {
   auto c = load_config("/nonexistent/spinewatch.toml");
   ASSERT_FALSE(c.ok());
-  EXPECT_EQ(c.error().message, "/nonexistent/spinewatch.toml: cannot be read");
+  EXPECT_EQ(c.error().message, "/nonexistent/spinewatch.toml: cannot open: No such file or directory");
 }
 
 // The annotated default file must list every key the loader knows, with

@@ -1,16 +1,15 @@
 #include "spinewatch/daemon/config.hpp"
 
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <variant>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include "spinewatch/frames/printable.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
 namespace {
@@ -204,11 +203,9 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
 }
 
 Result<Config> load_config(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) return Error{fmt::format("{}: cannot be read", path.string())};
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_config(text.str(), path.string());
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  return parse_config(*text, path.string());
 }
 
 }  // namespace spinewatch
