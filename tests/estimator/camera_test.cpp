@@ -138,6 +138,28 @@ TEST_F(BadCalibration, AFileThatMakesOpenCvThrowAStandardExceptionIsAnError) {
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
 }
 
+// Found by the calibration_yaml fuzzer: a file whose root is not a map
+// made OpenCV throw from fs["frontal"], outside any handler: terminate.
+TEST_F(BadCalibration, ARootThatIsNotAMapIsAnError) {
+  EXPECT_NE(load_error(test::read_file(
+                test::source_path("tests/fuzz/corpus/calibration_yaml/regression-root-not-a-map-terminates.yaml")))
+                .find("calibration.yaml: "),
+            std::string::npos);
+  EXPECT_NE(load_error("%YAML:1.0\n---\n- 1\n- 2\n").find("calibration.yaml: expected a map with the nodes frontal and lateral"),
+            std::string::npos);
+}
+
+// Found by the calibration_yaml fuzzer (a timeout): OpenCV 4.6's YAML
+// reader never returned on these files. A line that starts with "---"
+// and goes on without a space is refused before OpenCV reads the file.
+TEST_F(BadCalibration, ALineOpenCvWouldLoopOnIsRefusedFirst) {
+  for (const char* name : {"regression-opencv-never-returns.yaml", "regression-opencv-never-returns-2.yaml"}) {
+    const auto msg = load_error(test::read_file(test::source_path(std::string("tests/fuzz/corpus/calibration_yaml/") + name)));
+    EXPECT_NE(msg.find("calibration.yaml: line 2: \"-----"), std::string::npos) << name << ": " << msg;
+    EXPECT_NE(msg.find("is not a YAML document marker"), std::string::npos) << name << ": " << msg;
+  }
+}
+
 TEST_F(BadCalibration, NotYaml) {
   const auto msg = load_error("this is not: [a calibration\n");
   EXPECT_NE(msg.find("calibration.yaml"), std::string::npos) << msg;

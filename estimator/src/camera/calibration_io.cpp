@@ -1,5 +1,8 @@
 // calibration.yaml through cv::FileStorage, so that files written by
 // OpenCV tools (and by us) read back exactly.
+#include <algorithm>
+#include <string_view>
+
 #include <fmt/format.h>
 
 #include <opencv2/core.hpp>
@@ -8,6 +11,7 @@
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/frames/printable.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
 namespace {
@@ -82,27 +86,52 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
   return cam;
 }
 
+// OpenCV 4.6's YAML reader never returns on some malformed files (the
+// calibration_yaml fuzzer found "%YAML:1.0\n-----0\n-\n"): a line that
+// starts with the document marker "---" and goes on without a space is
+// refused before OpenCV sees it. YAML has no such line; OpenCV writes
+// "---" alone.
+Status check_document_markers(const std::string& text, const std::string& file) {
+  std::size_t line = 1;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view l(text.data() + at, end - at);
+    if (l.size() > 3 && l.substr(0, 3) == "---" && l[3] != ' ' && l[3] != '\t' && l[3] != '\r')
+      return Error{fmt::format("{}: line {}: \"{}\" is not a YAML document marker", file, line,
+                               printable(l.substr(0, 16)))};
+    at = end + 1;
+  }
+  return Ok{};
+}
+
 }  // namespace
 
 Result<CameraRig> load_calibration(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
-  cv::FileStorage fs;
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  if (auto markers = check_document_markers(*text, file); !markers) return markers.error();
+  // Everything OpenCV does with the file is inside the try: its reader
+  // throws cv::Exception from places a caller would not expect (indexing a
+  // root that is not a map) and lets standard exceptions through
+  // (std::length_error) — both found by the calibration_yaml fuzzer
+  // (tests/fuzz), both ended the program before.
   try {
+    cv::FileStorage fs;
     if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
+    if (!fs.root().isMap())
+      return Error{fmt::format("{}: expected a map with the nodes frontal and lateral", file)};
+    auto frontal = read_camera(fs, file, "frontal");
+    if (!frontal) return frontal.error();
+    auto lateral = read_camera(fs, file, "lateral");
+    if (!lateral) return lateral.error();
+    return CameraRig{*frontal, *lateral};
   } catch (const cv::Exception& e) {
     return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.err))};
   } catch (const std::exception& e) {
-    // OpenCV's parsers let standard exceptions through too: found by the
-    // calibration_yaml fuzzer (tests/fuzz), a corrupt file made it throw
-    // std::length_error, which ended the program.
     return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.what()))};
   }
-  auto frontal = read_camera(fs, file, "frontal");
-  if (!frontal) return frontal.error();
-  auto lateral = read_camera(fs, file, "lateral");
-  if (!lateral) return lateral.error();
-  return CameraRig{*frontal, *lateral};
 }
 
 Status save_calibration(const std::filesystem::path& path, const CameraRig& rig) {
