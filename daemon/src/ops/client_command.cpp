@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "spinewatch/frames/printable.hpp"
+
 namespace spinewatch {
 namespace {
 
@@ -42,11 +44,15 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   const auto command = j.find("command");
   if (command == j.end()) return Error{"command: missing"};
   if (!command->is_string()) return Error{fmt::format("command: expected a string, got {}", command->type_name())};
+  // What a client sent is quoted through printable(): the message goes to
+  // the log, and a "\n" in a client's string must not forge a log line
+  // (found by the client_command fuzzer).
   if (*command != "set_worker")
-    return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)", command->get<std::string>())};
+    return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)",
+                             printable(command->get<std::string>()))};
   for (const auto& [key, value] : j.items())
     if (key != "command" && key != kStature.key && key != kMass.key)
-      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg)", key)};
+      return Error{fmt::format("{}: not a field of set_worker (stature_mm, mass_kg)", printable(key))};
   SetWorkerCommand c;
   auto stature = optional_number(j, kStature);
   if (!stature) return stature.error();
