@@ -160,6 +160,20 @@ TEST_F(BadCalibration, ALineOpenCvWouldLoopOnIsRefusedFirst) {
   }
 }
 
+// Found by the calibration_yaml fuzzer: OpenCV 4.6's XML reader
+// dereferences null on a truncated header (SIGSEGV). calibration.yaml is
+// YAML; XML and JSON storage and NUL bytes are refused before OpenCV reads.
+TEST_F(BadCalibration, XmlJsonAndNulBytesAreRefusedBeforeOpenCvReads) {
+  EXPECT_NE(load_error(test::read_file(test::source_path(
+                "tests/fuzz/corpus/calibration_yaml/regression-opencv-xml-null-dereference.yaml")))
+                .find("calibration.yaml: XML or JSON storage; calibration.yaml is read as YAML only"),
+            std::string::npos);
+  EXPECT_NE(load_error("<?xml e=").find("XML or JSON storage"), std::string::npos);
+  EXPECT_NE(load_error("  {\"frontal\": {}}").find("XML or JSON storage"), std::string::npos);
+  EXPECT_NE(load_error(std::string("%YAML:1.0\n---\nfrontal: \0\n", 25)).find("calibration.yaml: a NUL byte: not a text file"),
+            std::string::npos);
+}
+
 TEST_F(BadCalibration, NotYaml) {
   const auto msg = load_error("this is not: [a calibration\n");
   EXPECT_NE(msg.find("calibration.yaml"), std::string::npos) << msg;

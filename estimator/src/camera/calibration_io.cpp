@@ -86,12 +86,21 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
   return cam;
 }
 
-// OpenCV 4.6's YAML reader never returns on some malformed files (the
+// What OpenCV 4.6 cannot be trusted to read, refused before it sees the
+// file. Its YAML reader never returns on some malformed files (the
 // calibration_yaml fuzzer found "%YAML:1.0\n-----0\n-\n"): a line that
 // starts with the document marker "---" and goes on without a space is
 // refused before OpenCV sees it. YAML has no such line; OpenCV writes
 // "---" alone.
-Status check_document_markers(const std::string& text, const std::string& file) {
+Status check_before_opencv(const std::string& text, const std::string& file) {
+  // calibration.yaml is FileStorage YAML (interfaces.md §2). OpenCV would
+  // also parse XML or JSON by the first character, and its 4.6 XML reader
+  // dereferences null on a header as short as "<?xml e=" (found by the
+  // calibration_yaml fuzzer): those are refused, as is a NUL byte.
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && (text[first] == '<' || text[first] == '{'))
+    return Error{fmt::format("{}: XML or JSON storage; calibration.yaml is read as YAML only", file)};
+  if (text.find('\0') != std::string::npos) return Error{fmt::format("{}: a NUL byte: not a text file", file)};
   std::size_t line = 1;
   for (std::size_t at = 0; at < text.size(); ++line) {
     const std::size_t end = std::min(text.find('\n', at), text.size());
@@ -111,7 +120,7 @@ Result<CameraRig> load_calibration(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
   auto text = read_text_file(path);
   if (!text) return text.error();
-  if (auto markers = check_document_markers(*text, file); !markers) return markers.error();
+  if (auto checked = check_before_opencv(*text, file); !checked) return checked.error();
   // Everything OpenCV does with the file is inside the try: its reader
   // throws cv::Exception from places a caller would not expect (indexing a
   // root that is not a map) and lets standard exceptions through
