@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
 export CTEST_PARALLEL_LEVEL ?= $(JOBS)
 
-.PHONY: all deps build demo test test-release test-asan bench clean
+.PHONY: all deps build demo test test-release test-asan test-fuzz fuzz bench clean
 
 all: build
 
@@ -19,13 +19,22 @@ build: deps
 demo: build
 	scripts/demo
 
-test: deps test-release test-asan
+test: deps test-release test-asan test-fuzz
 
 test-release:
 	cmake --workflow --preset release
 
 test-asan:
 	cmake --workflow --preset asan
+
+# The libFuzzer harnesses (tests/fuzz), clang-14: each fuzzes a bounded
+# time under ctest (docs/testing.md, "Fuzzing").
+test-fuzz:
+	cmake --workflow --preset fuzz
+
+# The same harnesses run long: 10^6 executions each, one at a time.
+fuzz: deps
+	scripts/fuzz
 
 bench: build
 	scripts/bench

@@ -6,7 +6,16 @@ if(SPINEWATCH_WERROR)
   target_compile_options(spinewatch_warnings INTERFACE -Werror)
 endif()
 
-if(SPINEWATCH_SANITIZE)
+# The fuzz build instruments every library for libFuzzer's coverage
+# (fuzzer-no-link) under ASan + UBSan; only the harnesses link the
+# fuzzer's main (tests/fuzz/CMakeLists.txt).
+if(SPINEWATCH_BUILD_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "SPINEWATCH_BUILD_FUZZ needs clang (the fuzz preset sets clang-14), not ${CMAKE_CXX_COMPILER_ID}")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+elseif(SPINEWATCH_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
 endif()

@@ -2,6 +2,20 @@
 # firmware (a separate project with its own compiler) through
 # ExternalProject. Sets SPINEWATCH_FIRMWARE_ELF and the target
 # trigger_firmware when it can; SPINEWATCH_FIRMWARE_MISSING says why not.
+#
+# First, whatever the AVR toolchain: trigger_protocol_host, the firmware's
+# protocol parser and timing arithmetic built for the host from the same C
+# files (the unit tests and the fuzz harness link it).
+enable_language(C)
+set(SPINEWATCH_FIRMWARE_COMMON ${CMAKE_CURRENT_LIST_DIR}/common)
+add_library(trigger_protocol_host STATIC
+  ${SPINEWATCH_FIRMWARE_COMMON}/trig_protocol.c ${SPINEWATCH_FIRMWARE_COMMON}/trig_timing.c
+  ${SPINEWATCH_FIRMWARE_COMMON}/trig_eeprom_image.c ${SPINEWATCH_FIRMWARE_COMMON}/trig_crc16.c
+  ${SPINEWATCH_FIRMWARE_COMMON}/trig_crc16_block.c)
+target_include_directories(trigger_protocol_host PUBLIC ${SPINEWATCH_FIRMWARE_COMMON})
+set_target_properties(trigger_protocol_host PROPERTIES C_STANDARD 99 C_STANDARD_REQUIRED ON C_EXTENSIONS OFF)
+target_link_libraries(trigger_protocol_host PRIVATE spinewatch_warnings)
+
 set(SPINEWATCH_FIRMWARE_MISSING "")
 if(NOT SPINEWATCH_FIRMWARE)
   set(SPINEWATCH_FIRMWARE_MISSING "SPINEWATCH_FIRMWARE is OFF")

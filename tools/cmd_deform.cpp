@@ -5,10 +5,8 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
@@ -18,61 +16,11 @@
 #include "spinewatch/estimator/posture_json.hpp"
 #include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/stiffness_fit.hpp"
+#include "spinewatch/estimator/spine/target_lines.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::cli {
 namespace {
-
-using nlohmann::json;
-
-Result<Eigen::Vector3d> vec3(const json& line, const char* key, const std::string& where, bool unit) {
-  auto it = line.find(key);
-  if (it == line.end()) return Error{fmt::format("{}: {}: missing", where, key)};
-  if (!it->is_array() || it->size() != 3) return Error{fmt::format("{}: {}: expected an array of 3 numbers", where, key)};
-  Eigen::Vector3d v;
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (!(*it)[i].is_number()) return Error{fmt::format("{}: {}[{}]: not a number", where, key, i)};
-    v[int(i)] = (*it)[i].get<double>();
-  }
-  if (!v.allFinite()) return Error{fmt::format("{}: {}: not finite", where, key)};
-  if (unit && std::abs(v.norm() - 1.0) > 0.05)
-    return Error{fmt::format("{}: {}: not a unit vector (norm {:.3f})", where, key, v.norm())};
-  return unit ? Eigen::Vector3d(v.normalized()) : v;
-}
-
-struct TargetLine {
-  SpineTargets targets;
-  std::uint64_t seq = 0;
-  std::int64_t t_ns = 0;
-};
-
-Result<TargetLine> parse_target(const std::string& text, const std::string& where, std::uint64_t index) {
-  json line = json::parse(text, nullptr, false);
-  if (line.is_discarded()) return Error{fmt::format("{}: not valid JSON", where)};
-  if (!line.is_object()) return Error{fmt::format("{}: expected a JSON object", where)};
-  TargetLine t;
-  auto neck = vec3(line, "neck", where, false);
-  if (!neck) return neck.error();
-  auto waist = vec3(line, "waist", where, false);
-  if (!waist) return waist.error();
-  t.targets.neck = *neck;
-  t.targets.waist = *waist;
-  for (auto [key, out] : {std::pair{"neck_dir", &t.targets.neck_dir}, std::pair{"waist_dir", &t.targets.waist_dir}}) {
-    if (!line.contains(key) || line[key].is_null()) continue;
-    auto d = vec3(line, key, where, true);
-    if (!d) return d.error();
-    *out = *d;
-  }
-  t.seq = index;
-  if (auto it = line.find("seq"); it != line.end()) {
-    if (!it->is_number_unsigned()) return Error{fmt::format("{}: seq: not a non-negative integer", where)};
-    t.seq = it->get<std::uint64_t>();
-  }
-  if (auto it = line.find("t_ns"); it != line.end()) {
-    if (!it->is_number_integer()) return Error{fmt::format("{}: t_ns: not an integer", where)};
-    t.t_ns = it->get<std::int64_t>();
-  }
-  return t;
-}
 
 int run_deform(const std::string& subject_path, const std::string& targets_path, const std::string& out_path,
                const std::string& stiffness_path) {
@@ -84,11 +32,9 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
   }
   DynamicsOptions options;
   if (!stiffness_path.empty()) {
-    std::ifstream in(stiffness_path);
-    std::stringstream text;
-    text << in.rdbuf();
-    auto scale = in ? parse_stiffness_fragment(text.str(), stiffness_path)
-                    : Result<std::array<double, kJointCount>>(Error{fmt::format("{}: cannot open", stiffness_path)});
+    auto text = read_text_file(stiffness_path);
+    auto scale = text ? parse_stiffness_fragment(*text, stiffness_path)
+                      : Result<std::array<double, kJointCount>>(text.error());
     if (!scale) {
       spdlog::error("{}", scale.error().message);
       return 1;
@@ -96,26 +42,17 @@ int run_deform(const std::string& subject_path, const std::string& targets_path,
     options.bending_scale = *scale;
   }
   // Read every line first: a bad line fails the run before any output.
-  std::ifstream in(targets_path);
-  if (!in) {
-    spdlog::error("{}: cannot open", targets_path);
+  auto targets_text = read_text_file(targets_path);
+  if (!targets_text) {
+    spdlog::error("{}", targets_text.error().message);
     return 1;
   }
-  std::vector<TargetLine> lines;
-  std::string text;
-  for (std::uint64_t n = 1; std::getline(in, text); ++n) {
-    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
-    auto t = parse_target(text, fmt::format("{}:{}", targets_path, n), lines.size());
-    if (!t) {
-      spdlog::error("{}", t.error().message);
-      return 1;
-    }
-    lines.push_back(*t);
-  }
-  if (lines.empty()) {
-    spdlog::error("{}: no target lines", targets_path);
+  auto targets = parse_target_lines(*targets_text, targets_path);
+  if (!targets) {
+    spdlog::error("{}", targets.error().message);
     return 1;
   }
+  const std::vector<TargetLine>& lines = *targets;
 
   const SpineModel model = SpineModel::from_subject(*subject);
   std::ofstream file;

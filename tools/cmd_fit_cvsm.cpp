@@ -2,9 +2,7 @@
 // rendered by the phantom at known poses (how config/cvsm-generic.toml is
 // made from config/subjects/generic.json; docs/cvsm.md).
 #include <algorithm>
-#include <fstream>
 #include <memory>
-#include <sstream>
 
 #include <spdlog/spdlog.h>
 
@@ -12,6 +10,7 @@
 #include "output_file.hpp"
 #include "spinewatch/estimator/cvsm/template_fit.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/frames/text_file.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch::cli {
@@ -63,14 +62,12 @@ int run_fit(const std::string& subject_path, const std::string& model_path, cons
   }
   std::string text(generic_cvsm_toml());
   if (!model_path.empty()) {
-    std::ifstream in(model_path);
-    if (!in) {
-      spdlog::error("{}: cannot open", model_path);
+    auto file = read_text_file(model_path);
+    if (!file) {
+      spdlog::error("{}", file.error().message);
       return 1;
     }
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    text = buffer.str();
+    text = std::move(file).value();
   }
   auto start = parse_cvsm_spec(text, model_path.empty() ? "config/cvsm-generic.toml" : model_path);
   if (!start) {

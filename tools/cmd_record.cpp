@@ -21,6 +21,7 @@
 #include "spinewatch/capture/recorder.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
+#include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/sync/frame_pairer.hpp"
@@ -37,22 +38,6 @@ struct RecordOptions {
   std::optional<std::uint64_t> frames;
   std::optional<double> seconds;
 };
-
-V4l2CameraOptions camera_options(const Config::Cameras& c, PixelFormat format, const std::string& path,
-                                 const char* name) {
-  V4l2CameraOptions o;
-  o.path = path;
-  o.name = name;
-  o.pixel_format = format;
-  o.width = static_cast<std::uint32_t>(c.width);
-  o.height = static_cast<std::uint32_t>(c.height);
-  o.fps = c.fps;
-  o.exposure_us = c.exposure_us;
-  o.gain = c.gain;
-  o.buffers = static_cast<unsigned>(c.buffers);
-  o.watchdog_s = c.watchdog_s;
-  return o;
-}
 
 // SIGINT/SIGTERM end the recording cleanly: a thread waits for them (they
 // are blocked everywhere else) and stops the cameras.
@@ -110,22 +95,20 @@ int record(const RecordOptions& opts) {
     }
     config = std::move(loaded.value());
   }
-  const auto format = parse_pixel_format(config.cameras.pixel_format);
-  if (!format) {
-    spdlog::error("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format);
-    return 1;
-  }
   auto background = station_background(config);
   if (!background) {
     spdlog::error("{}", background.error().message);
     return 1;
   }
-  const std::string paths[2] = {opts.frontal.empty() ? config.cameras.frontal : opts.frontal,
-                                opts.lateral.empty() ? config.cameras.lateral : opts.lateral};
-  const char* names[2] = {"frontal", "lateral"};
+  // The daemon's mapping of [cameras], with the devices the command line names.
+  const CameraPairOptions pair = camera_pair_options(config);
+  V4l2CameraOptions options[2] = {pair.frontal, pair.lateral};
+  if (!opts.frontal.empty()) options[0].path = opts.frontal;
+  if (!opts.lateral.empty()) options[1].path = opts.lateral;
+  const std::string paths[2] = {options[0].path, options[1].path};
   std::unique_ptr<V4l2Camera> cameras[2];
   for (int v = 0; v < 2; ++v) {
-    cameras[v] = std::make_unique<V4l2Camera>(camera_options(config.cameras, *format, paths[v], names[v]));
+    cameras[v] = std::make_unique<V4l2Camera>(options[v]);
     if (auto started = cameras[v]->start(); !started) {
       spdlog::error("{}", started.error().message);
       return 1;
@@ -151,7 +134,9 @@ int record(const RecordOptions& opts) {
 
   // Pairing runs alongside only to report how the streams will pair on replay.
   std::mutex mutex;  // pairer: frames come from the recorder's threads, edges from the trigger's
-  sync::FramePairer pairer({.fps = cameras[0]->fps(), .triggered = config.trigger.mode != "free-run"});
+  sync::PairerOptions pairing = pairer_options(pair);
+  pairing.fps = cameras[0]->fps();  // what the driver granted
+  sync::FramePairer pairer(pairing);
   RecorderOptions recorder_options;
   recorder_options.frames = opts.frames;
   recorder_options.seconds = opts.seconds;
@@ -160,7 +145,7 @@ int record(const RecordOptions& opts) {
   recorder_options.on_frame = [&](View view, const Frame& frame) {
     std::lock_guard lock(mutex);
     // A copy: a frame waiting in the pairer must not hold the driver's buffer.
-    pairer.push(static_cast<sync::Stream>(view), Frame::copy_of(frame.format(), frame.info(), frame.bytes()));
+    pairer.push(view, Frame::copy_of(frame.format(), frame.info(), frame.bytes()));
     while (pairer.pop()) {
     }
   };
@@ -168,15 +153,14 @@ int record(const RecordOptions& opts) {
   // Before any thread starts, so that every thread inherits the blocked signals.
   StopOnSignal on_signal([&recorder] { recorder.stop(); });
 
-  auto trigger = sync::TriggerSource::open(
-      {.mode = config.trigger.mode, .chip = config.trigger.chip, .line = static_cast<unsigned>(config.trigger.line),
-       .fps = config.cameras.fps, .pulse_us = config.trigger.pulse_us, .consumer = "spinewatch-record"},
-      [&](std::int64_t t) {
-        std::lock_guard lock(mutex);
-        pairer.push_trigger(t);
-        while (pairer.pop()) {
-        }
-      });
+  sync::TriggerSourceOptions trigger_options = pair.trigger;
+  trigger_options.consumer = "spinewatch-record";
+  auto trigger = sync::TriggerSource::open(trigger_options, [&](std::int64_t t) {
+    std::lock_guard lock(mutex);
+    pairer.push_trigger(t);
+    while (pairer.pop()) {
+    }
+  });
   if (!trigger) {
     spdlog::error("{}", trigger.error().message);
     return 1;
@@ -191,7 +175,7 @@ int record(const RecordOptions& opts) {
   }
   for (int v = 0; v < 2; ++v) {
     const auto& c = recorded->counters[v];
-    spdlog::info("{}: {} frames written; dropped {} error, {} sequence gaps; {} restarts", names[v],
+    spdlog::info("{}: {} frames written; dropped {} error, {} sequence gaps; {} restarts", to_string(kViews[v]),
                  recorded->written[v], c.dropped_error, c.dropped_gap, c.restarts);
   }
   spdlog::info("pairing: {}", pairer.stats().summary());

@@ -114,7 +114,7 @@ void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle, bool colo
     if (lifecycle) {
       gated = r.state == TrackingState::Tracking;
       for (int v = 0; v < 2; ++v) {
-        fitted[v] = gated ? tracker.fitted_mask(v) : BitMask{};
+        fitted[v] = gated ? tracker.fitted_mask(kViews[v]) : BitMask{};
         gated = gated && !fitted[v].empty();
         if (gated) dilate_square(fitted[v], 16, gates[v]);
         extractors[v].adapt(pairs->view_of(i, v), gated ? &fitted[v] : nullptr);

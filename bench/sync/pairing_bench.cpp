@@ -41,7 +41,7 @@ void BM_DequeueToPair(benchmark::State& state) {
         state.SkipWithError("no frame");
         return;
       }
-      pairer.push(static_cast<sync::Stream>(s), std::move(*frame));
+      pairer.push(kViews[s], std::move(*frame));
     }
     while (auto pair = pairer.pop()) {
       benchmark::DoNotOptimize(pair->frontal.bytes().data());
@@ -58,8 +58,8 @@ void BM_PairerOnly(benchmark::State& state) {
   std::uint64_t k = 0;
   for (auto _ : state) {
     const auto t = static_cast<std::int64_t>(k) * 33'333'333;
-    pairer.push(sync::Stream::Frontal, Frame(FrameFormat{}, {k, t}, nullptr, {}));
-    pairer.push(sync::Stream::Lateral, Frame(FrameFormat{}, {k, t + 1'000'000}, nullptr, {}));
+    pairer.push(View::Frontal, Frame(FrameFormat{}, {k, t}, nullptr, {}));
+    pairer.push(View::Lateral, Frame(FrameFormat{}, {k, t + 1'000'000}, nullptr, {}));
     benchmark::DoNotOptimize(pairer.pop());
     ++k;
   }

@@ -1,5 +1,4 @@
 #include <linux/videodev2.h>
-#include <time.h>
 
 #include <chrono>
 #include <thread>
@@ -8,17 +7,12 @@
 
 #include "spinewatch/capture/fake_v4l2_device.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
+#include "spinewatch/frames/clock.hpp"
 
 namespace spinewatch {
 namespace {
 
 using namespace std::chrono_literals;
-
-std::int64_t now_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 V4l2CameraOptions options_for(const FakeV4l2Script& script) {
   V4l2CameraOptions o;
@@ -208,7 +202,7 @@ TEST(V4l2Camera, UsesTheDriversMonotonicTimestamps) {
   ASSERT_TRUE(first && later);
   // The fake stamps frame k at start + k/30 s (µs resolution, as V4L2 has).
   EXPECT_NEAR(static_cast<double>(later->timestamp_ns() - first->timestamp_ns()), 2e9 / 30.0, 1000.0);
-  EXPECT_LE(first->timestamp_ns(), now_ns());
+  EXPECT_LE(first->timestamp_ns(), monotonic_now_ns());
 }
 
 TEST(V4l2Camera, FallsBackToDequeueTimeWithoutAMonotonicStamp) {
@@ -217,11 +211,11 @@ TEST(V4l2Camera, FallsBackToDequeueTimeWithoutAMonotonicStamp) {
   auto fake = std::make_shared<FakeV4l2Device>(script);
   V4l2Camera camera(options_for(script), fake);
   ASSERT_TRUE(camera.start().ok());
-  const std::int64_t before = now_ns();
+  const std::int64_t before = monotonic_now_ns();
   auto f = camera.next(1s);
   ASSERT_TRUE(f);
   EXPECT_GE(f->timestamp_ns(), before);
-  EXPECT_LE(f->timestamp_ns(), now_ns());
+  EXPECT_LE(f->timestamp_ns(), monotonic_now_ns());
 }
 
 TEST(V4l2Camera, RecoversFromDeviceLossWithoutRepeatingSequenceNumbers) {

@@ -118,8 +118,8 @@ TEST(XorCost, AgreesWithOpenCvReferenceOnRandomCandidates) {
     const std::int64_t ref = test::reference_xor(rig.frontal, model, pts, sf, scratch, diff) +
                              test::reference_xor(rig.lateral, model, pts, sl, scratch, diff);
     // Pixels compared: the silhouettes' and the model's, both views.
-    const double compared = silhouette + static_cast<double>(cost.render(model, pts, kFrontal).count() +
-                                                             cost.render(model, pts, kLateral).count());
+    const double compared = silhouette + static_cast<double>(cost.render(model, pts, View::Frontal).count() +
+                                                             cost.render(model, pts, View::Lateral).count());
     worst = std::max(worst, std::abs(static_cast<double>(fast.total() - ref)) / compared);
   }
   EXPECT_LT(worst, 0.005) << "fast and reference XOR differ by more than 0.5 % of the pixels compared";
@@ -141,9 +141,9 @@ TEST(XorCost, ProjectsLikeTheCameraModel) {
     CvsmPose p = bend(angle(rng), lat(rng), lat(rng));
     p.translation = {shift(rng), shift(rng) * 0.3, shift(rng)};
     control_points(model, pose_vertebrae(model, generic_spine_spec(), p), pts);
-    for (int view : {kFrontal, kLateral}) {
+    for (View view : kViews) {
       (void)cost.render(model, pts, view);
-      const CameraModel& cam = view == kFrontal ? rig.frontal : rig.lateral;
+      const CameraModel& cam = view == View::Frontal ? rig.frontal : rig.lateral;
       for (std::size_t k = 0; k < pts.size(); ++k) {
         const Eigen::Vector2d ref = *cam.project(pts[k]);
         const PixelQ8 q = cost.projected(view)[k];
@@ -228,12 +228,12 @@ TEST(XorCost, WarmCacheDrawsWhatAFreshCostDraws) {
     control_points(model, pose_vertebrae(model, generic_spine_spec(), p), pts);
     warm.set_row_step(i % 3 == 0 ? 4 : 1);
     const BodyModel& m = i % 2 ? thin : model;
-    (void)warm.render(m, pts, kFrontal);
-    (void)warm.render(m, pts, kLateral);
+    (void)warm.render(m, pts, View::Frontal);
+    (void)warm.render(m, pts, View::Lateral);
     warm.set_row_step(1);
-    for (int view : {kFrontal, kLateral}) {
+    for (View view : kViews) {
       XorCost fresh(rig, kW, kH);
-      ASSERT_TRUE(warm.render(m, pts, view) == fresh.render(m, pts, view)) << "candidate " << i << " view " << view;
+      ASSERT_TRUE(warm.render(m, pts, view) == fresh.render(m, pts, view)) << "candidate " << i << " view " << to_string(view);
     }
   }
 }

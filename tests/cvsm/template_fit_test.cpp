@@ -25,8 +25,8 @@ TemplateSample sample_of(const CvsmSpec& spec, SubjectPosture posture) {
   std::vector<Eigen::Vector3d> points;
   control_points(model, pose_vertebrae(model, spine, CvsmPose{}), points);
   XorCost cost(rig, 320, 240);
-  s.frontal = cost.render(model, points, kFrontal);
-  s.lateral = cost.render(model, points, kLateral);
+  s.frontal = cost.render(model, points, View::Frontal);
+  s.lateral = cost.render(model, points, View::Lateral);
   return s;
 }
 

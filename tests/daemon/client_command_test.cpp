@@ -67,6 +67,18 @@ TEST(ClientCommand, BadLinesSayWhatIsWrong) {
   }
 }
 
+// Found by the client_command fuzzer: a client's string with a line end
+// in it went into the message, and so into the daemon's log as a line of
+// the client's making.
+TEST(ClientCommand, WhatAClientSentCannotForgeALogLine) {
+  auto command = parse_client_command(R"({"command": "x\n2026-12-02 info: forged"})");
+  ASSERT_FALSE(command);
+  EXPECT_EQ(command.error().message, R"(command: "x\n2026-12-02 info: forged" is not a command (known: set_worker))");
+  auto key = parse_client_command(R"({"command": "set_worker", "a\u001bb": 1})");
+  ASSERT_FALSE(key);
+  EXPECT_EQ(key.error().message, R"(a\x1bb: not a field of set_worker (stature_mm, mass_kg))");
+}
+
 TEST(ClientCommand, RepliesAreReplyLines) {
   const auto ok = nlohmann::json::parse(accepted_reply({KnownWorker{1755.0, std::nullopt}, std::nullopt}));
   EXPECT_EQ(ok.at("class"), "reply");

@@ -99,7 +99,7 @@ TEST_F(ModelKeys, AFileThatCannotBeReadOrParsedIsOneErrorNamingKeyAndFile) {
   ASSERT_TRUE(missing);
   auto r = load_estimator_options(*missing);
   ASSERT_FALSE(r);
-  EXPECT_EQ(r.error().message, "cvsm.model: /nonexistent/cvsm.toml: cannot be read");
+  EXPECT_EQ(r.error().message, "cvsm.model: /nonexistent/cvsm.toml: cannot open: No such file or directory");
 
   const auto broken = copy_of("config/spine-generic.toml", [](std::string s) {
     return s.replace(s.find("kyphosis_deg = 40.0"), 19, "kyphosis_deg = \"steep\"");

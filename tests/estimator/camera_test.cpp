@@ -122,6 +122,66 @@ TEST_F(BadCalibration, NotARotation) {
   EXPECT_NE(msg.find("lateral.R: not a rotation matrix"), std::string::npos) << msg;
 }
 
+// Found by the calibration_yaml fuzzer (tests/fuzz): OpenCV sized the
+// matrix from a corrupt header before reading its data and asked for
+// 48 GB. The header is checked first now.
+TEST_F(BadCalibration, AHeaderAskingForAHugeMatrixIsAnErrorNotAnAllocation) {
+  for (const std::string cols : {"cols:ols: 3", "cols: 2147483647", "cols: -3", "cols: 3.5"}) {
+    std::string frontal = camera("frontal");
+    frontal.replace(frontal.find("cols: 3"), 7, cols);
+    const auto msg = load_error("%YAML:1.0\n---\n" + frontal + camera("lateral"));
+    EXPECT_NE(msg.find("calibration.yaml: frontal.camera_matrix: not a matrix (rows and cols must be integers 1..16)"),
+              std::string::npos)
+        << cols << ": " << msg;
+  }
+}
+
+// Found by the calibration_yaml fuzzer: this file made OpenCV's reader
+// throw std::length_error, which was not caught and ended the program.
+TEST_F(BadCalibration, AFileThatMakesOpenCvThrowAStandardExceptionIsAnError) {
+  const auto msg = load_error(
+      test::read_file(test::source_path("tests/fuzz/corpus/calibration_yaml/regression-length-error-terminates.yaml")));
+  EXPECT_NE(msg.find("calibration.yaml: not an OpenCV FileStorage file ("), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+}
+
+// Found by the calibration_yaml fuzzer: a file whose root is not a map
+// made OpenCV throw from fs["frontal"], outside any handler: terminate.
+TEST_F(BadCalibration, ARootThatIsNotAMapIsAnError) {
+  EXPECT_NE(load_error(test::read_file(
+                test::source_path("tests/fuzz/corpus/calibration_yaml/regression-root-not-a-map-terminates.yaml")))
+                .find("calibration.yaml: "),
+            std::string::npos);
+  EXPECT_NE(load_error("%YAML:1.0\n---\n- 1\n- 2\n").find("calibration.yaml: expected a map with the nodes frontal and lateral"),
+            std::string::npos);
+}
+
+// Found by the calibration_yaml fuzzer (timeouts): OpenCV 4.6's YAML
+// reader never returned on these files. A line holding "---" other than
+// the document marker alone is refused before OpenCV reads the file.
+TEST_F(BadCalibration, ALineOpenCvWouldLoopOnIsRefusedFirst) {
+  for (const char* name : {"regression-opencv-never-returns.yaml", "regression-opencv-never-returns-2.yaml",
+                           "regression-opencv-never-returns-3.yaml"}) {
+    const auto msg = load_error(test::read_file(test::source_path(std::string("tests/fuzz/corpus/calibration_yaml/") + name)));
+    EXPECT_NE(msg.find("calibration.yaml: line "), std::string::npos) << name << ": " << msg;
+    EXPECT_NE(msg.find("\"---\" only as a document marker on a line of its own"), std::string::npos) << name << ": " << msg;
+  }
+}
+
+// Found by the calibration_yaml fuzzer: OpenCV 4.6's XML reader
+// dereferences null on a truncated header (SIGSEGV). calibration.yaml is
+// YAML; XML and JSON storage and NUL bytes are refused before OpenCV reads.
+TEST_F(BadCalibration, XmlJsonAndNulBytesAreRefusedBeforeOpenCvReads) {
+  EXPECT_NE(load_error(test::read_file(test::source_path(
+                "tests/fuzz/corpus/calibration_yaml/regression-opencv-xml-null-dereference.yaml")))
+                .find("calibration.yaml: XML or JSON storage; calibration.yaml is read as YAML only"),
+            std::string::npos);
+  EXPECT_NE(load_error("<?xml e=").find("XML or JSON storage"), std::string::npos);
+  EXPECT_NE(load_error("  {\"frontal\": {}}").find("XML or JSON storage"), std::string::npos);
+  EXPECT_NE(load_error(std::string("%YAML:1.0\n---\nfrontal: \0\n", 25)).find("calibration.yaml: a NUL byte: not a text file"),
+            std::string::npos);
+}
+
 TEST_F(BadCalibration, NotYaml) {
   const auto msg = load_error("this is not: [a calibration\n");
   EXPECT_NE(msg.find("calibration.yaml"), std::string::npos) << msg;

@@ -58,6 +58,10 @@ TEST_F(Protocol, RateRangeIsEnforced) {
   EXPECT_EQ(handle("RATE 120.001"), "ERR rate out of range (1-120 Hz)");
   EXPECT_EQ(handle("RATE 4294967"), "ERR rate out of range (1-120 Hz)");
   EXPECT_EQ(handle("RATE 99999999999"), "ERR bad number");
+  // Seven integer digits and three decimals are ten digits in milli-hertz,
+  // past 32 bits: refused, not wrapped to 1000 mHz (it was taken as 1 Hz).
+  EXPECT_EQ(handle("RATE 4294968.296"), "ERR bad number");
+  EXPECT_EQ(handle("CONFIG 4294997.296 1000 0 0"), "ERR bad number");
   EXPECT_EQ(actions, TRIG_ACT_NONE);
   EXPECT_EQ(st.settings.rate_mhz, 30000u);
 }

@@ -81,5 +81,28 @@ TEST(BackgroundImages, RefusesWhatCannotBeABackground) {
   EXPECT_EQ(r.error().message, grey.string() + ": 64x48 does not match the cameras' 320x240");
 }
 
+// A PNG whose header (checksum valid) declares 30000x30000 colour pixels:
+// OpenCV sized its buffer from the header before decoding and asked for
+// 2.7 GB (the background_png harness, given this file, reports the
+// allocation). The size is read from the header and refused first now.
+TEST(BackgroundImages, AHugeDeclaredSizeIsRefusedBeforeDecoding) {
+  const auto huge = test::source_path("tests/fuzz/corpus/background_png/huge-declared-size.png");
+  auto r = load_background_images(huge, huge);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, huge.string() + ": 30000x30000 is not a camera's size (1..4096 a side)");
+  r = load_background_images(huge, huge, kW, kH);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, huge.string() + ": 30000x30000 does not match the cameras' 64x48");
+}
+
+TEST(BackgroundImages, OnlyPngIsRead) {
+  test::TempDir dir;
+  const auto bmp = dir.path() / "background_frontal.bmp";
+  ASSERT_TRUE(cv::imwrite(bmp.string(), cv::Mat(kH, kW, CV_8U, cv::Scalar(90))));
+  auto r = load_background_images(bmp, bmp);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, bmp.string() + ": not a PNG file");
+}
+
 }  // namespace
 }  // namespace spinewatch

@@ -1,5 +1,4 @@
 // RecordingSource: merge order, fast and paced delivery, looping, stop().
-#include <time.h>
 
 #include <chrono>
 #include <map>
@@ -10,18 +9,13 @@
 
 #include "recording_fixtures.hpp"
 #include "spinewatch/capture/recording_source.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch::test {
 namespace {
 
 const FrameFormat kGrey = FrameFormat::packed(PixelFormat::GREY, 8, 4);
-
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Seeds identify frames: frontal frame i has seed 100 + i, lateral 200 + i.
 std::uint32_t seed_of(View view, std::size_t i) {
@@ -141,11 +135,11 @@ TEST(RecordingSource, PacedDeliversNoEarlierThanScheduledWithMonotonicTimestamps
   write_timed_recording(tmp / "rec", 50, frontal, lateral);
   auto source = open_source(tmp / "rec", {.paced = true, .loop = false});
 
-  const auto before = monotonic_ns();
+  const auto before = monotonic_now_ns();
   std::optional<std::int64_t> first_t;
   int delivered = 0;
   while (auto f = source.next()) {
-    const auto now = monotonic_ns();
+    const auto now = monotonic_now_ns();
     const auto t = f->frame.timestamp_ns();
     if (!first_t) first_t = t;
     const auto i = identify(*f, 5);
@@ -157,7 +151,7 @@ TEST(RecordingSource, PacedDeliversNoEarlierThanScheduledWithMonotonicTimestamps
   EXPECT_EQ(delivered, 10);
   ASSERT_TRUE(first_t.has_value());
   EXPECT_GE(*first_t, before) << "timestamps are CLOCK_MONOTONIC of this run";
-  const auto elapsed = monotonic_ns() - before;
+  const auto elapsed = monotonic_now_ns() - before;
   EXPECT_GE(elapsed, 90'000'000);
   EXPECT_LT(elapsed, 5'000'000'000) << "loose upper bound only";
 }
@@ -174,9 +168,9 @@ TEST(RecordingSource, StopFromAnotherThreadWakesAPacedNext) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     source.stop();
   });
-  const auto before = monotonic_ns();
+  const auto before = monotonic_now_ns();
   const auto waited = source.next();
-  const auto after = monotonic_ns();
+  const auto after = monotonic_now_ns();
   stopper.join();
   EXPECT_FALSE(waited.has_value());
   EXPECT_LT(after - before, 2'000'000'000) << "stop() must wake the sleeping next()";

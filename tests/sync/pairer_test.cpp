@@ -41,8 +41,8 @@ TEST(FreeRunPairer, PairsSimultaneousFramesWithMeanTime) {
   FramePairer pairer({.fps = 30.0});
   for (std::uint64_t k = 0; k < 10; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
-    pairer.push(Stream::Frontal, frame_at(k, t + 1'000'000));
-    pairer.push(Stream::Lateral, frame_at(k, t + 3'000'000));
+    pairer.push(View::Frontal, frame_at(k, t + 1'000'000));
+    pairer.push(View::Lateral, frame_at(k, t + 3'000'000));
   }
   auto pairs = drain(pairer);
   ASSERT_EQ(pairs.size(), 10u);
@@ -58,8 +58,8 @@ TEST(FreeRunPairer, DropsOnEitherSideAreCountedNotMispaired) {
   std::vector<FramePair> pairs;
   for (std::uint64_t k = 0; k < 20; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
-    if (k != 3 && k != 4) pairer.push(Stream::Frontal, frame_at(k, t));
-    if (k != 9) pairer.push(Stream::Lateral, frame_at(k, t + 500'000));
+    if (k != 3 && k != 4) pairer.push(View::Frontal, frame_at(k, t));
+    if (k != 9) pairer.push(View::Lateral, frame_at(k, t + 500'000));
     for (auto& p : drain(pairer)) pairs.push_back(std::move(p));
   }
   pairer.flush();
@@ -78,9 +78,9 @@ TEST(FreeRunPairer, DuplicatesAreDroppedOnce) {
   FramePairer pairer({.fps = 30.0});
   for (std::uint64_t k = 0; k < 5; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    if (k == 2) pairer.push(Stream::Frontal, frame_at(k, t));
-    pairer.push(Stream::Lateral, frame_at(k, t));
+    pairer.push(View::Frontal, frame_at(k, t));
+    if (k == 2) pairer.push(View::Frontal, frame_at(k, t));
+    pairer.push(View::Lateral, frame_at(k, t));
   }
   pairer.flush();
   auto pairs = drain(pairer);
@@ -96,9 +96,9 @@ TEST(FreeRunPairer, ReorderingWithinAStreamStillPairsEveryFrame) {
   // Lateral frames 4 and 5 arrive swapped, frontal runs one frame ahead.
   std::vector<std::uint64_t> lateral_order = {0, 1, 2, 3, 5, 4, 6, 7, 8, 9};
   for (std::size_t i = 0; i < 10; ++i) {
-    pairer.push(Stream::Frontal, frame_at(i, static_cast<std::int64_t>(i) * kPeriod));
+    pairer.push(View::Frontal, frame_at(i, static_cast<std::int64_t>(i) * kPeriod));
     const auto k = lateral_order[i];
-    pairer.push(Stream::Lateral, frame_at(k, static_cast<std::int64_t>(k) * kPeriod + 100));
+    pairer.push(View::Lateral, frame_at(k, static_cast<std::int64_t>(k) * kPeriod + 100));
   }
   pairer.flush();
   auto pairs = drain(pairer);
@@ -114,8 +114,8 @@ TEST(FreeRunPairer, ClockJitterWithinToleranceStillPairs) {
   for (std::uint64_t k = 0; k < 50; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
     const std::int64_t skew = (k % 2 == 0 ? 1 : -1) * 12'000'000;
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    pairer.push(Stream::Lateral, frame_at(k, t + skew));
+    pairer.push(View::Frontal, frame_at(k, t));
+    pairer.push(View::Lateral, frame_at(k, t + skew));
   }
   pairer.flush();
   auto pairs = drain(pairer);
@@ -129,8 +129,8 @@ TEST(FreeRunPairer, FramesFurtherApartThanToleranceAreNeverPaired) {
   // The lateral camera is 20 ms behind: more than half a period.
   for (std::uint64_t k = 0; k < 10; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    pairer.push(Stream::Lateral, frame_at(k, t + 20'000'000));
+    pairer.push(View::Frontal, frame_at(k, t));
+    pairer.push(View::Lateral, frame_at(k, t + 20'000'000));
   }
   pairer.flush();
   auto pairs = drain(pairer);
@@ -147,8 +147,8 @@ TEST(FreeRunPairer, StalledCameraKeepsMemoryBoundedAndRecovers) {
   std::vector<FramePair> pairs;
   for (std::uint64_t k = 0; k < 300; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    if (k < 10 || k >= 200) pairer.push(Stream::Lateral, frame_at(k, t));
+    pairer.push(View::Frontal, frame_at(k, t));
+    if (k < 10 || k >= 200) pairer.push(View::Lateral, frame_at(k, t));
     for (auto& p : drain(pairer)) pairs.push_back(std::move(p));
   }
   pairer.flush();
@@ -169,9 +169,9 @@ TEST(TriggeredPairer, PairsFramesToTheirEdgeWithTheEdgeTime) {
   for (std::uint64_t k = 0; k < 10; ++k) {
     const std::int64_t t = 1'000'000'000 + static_cast<std::int64_t>(k) * kPeriod;
     // Frames may be pushed before their edge (other thread).
-    pairer.push(Stream::Lateral, frame_at(100 + k, t + 6'000'000));
+    pairer.push(View::Lateral, frame_at(100 + k, t + 6'000'000));
     pairer.push_trigger(t);
-    pairer.push(Stream::Frontal, frame_at(500 + k, t + 5'200'000));
+    pairer.push(View::Frontal, frame_at(500 + k, t + 5'200'000));
   }
   auto pairs = drain(pairer);
   ASSERT_EQ(pairs.size(), 10u);
@@ -190,8 +190,8 @@ TEST(TriggeredPairer, MissingFramesAndEdgesAreCounted) {
   for (std::uint64_t k = 0; k < 30; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
     if (k != 7) pairer.push_trigger(t);
-    if (k != 12) pairer.push(Stream::Frontal, frame_at(k, t + 1'000'000));
-    if (k != 20 && k != 21) pairer.push(Stream::Lateral, frame_at(k, t + 2'000'000));
+    if (k != 12) pairer.push(View::Frontal, frame_at(k, t + 1'000'000));
+    if (k != 20 && k != 21) pairer.push(View::Lateral, frame_at(k, t + 2'000'000));
   }
   pairer.flush();
   auto pairs = drain(pairer);
@@ -211,8 +211,8 @@ TEST(TriggeredPairer, TriggerThatStopsKeepsMemoryBounded) {
   for (std::uint64_t k = 0; k < 200; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
     if (k < 10) pairer.push_trigger(t);
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    pairer.push(Stream::Lateral, frame_at(k, t));
+    pairer.push(View::Frontal, frame_at(k, t));
+    pairer.push(View::Lateral, frame_at(k, t));
   }
   auto pairs = drain(pairer);
   EXPECT_EQ(pairs.size(), 10u);
@@ -229,8 +229,8 @@ TEST(TriggeredPairer, StalledCameraKeepsEdgesBounded) {
   for (std::uint64_t k = 0; k < 200; ++k) {
     const std::int64_t t = static_cast<std::int64_t>(k) * kPeriod;
     pairer.push_trigger(t);
-    pairer.push(Stream::Frontal, frame_at(k, t));
-    if (k < 10) pairer.push(Stream::Lateral, frame_at(k, t));
+    pairer.push(View::Frontal, frame_at(k, t));
+    if (k < 10) pairer.push(View::Lateral, frame_at(k, t));
   }
   auto pairs = drain(pairer);
   EXPECT_EQ(pairs.size(), 10u);
@@ -282,7 +282,7 @@ RandomRun run_random(bool triggered, std::uint32_t seed) {
     if (e.kind == 2) {
       pairer.push_trigger(e.t);
     } else {
-      pairer.push(e.kind == 0 ? Stream::Frontal : Stream::Lateral, frame_at(e.seq, e.t));
+      pairer.push(e.kind == 0 ? View::Frontal : View::Lateral, frame_at(e.seq, e.t));
     }
     while (auto p = pairer.pop()) run.pairs.push_back(std::move(*p));
   }

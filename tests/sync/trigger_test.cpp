@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "spinewatch/sync/edge_clock.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/sync/fake_trigger_line.hpp"
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
 #include "spinewatch/sync/trigger_master.hpp"

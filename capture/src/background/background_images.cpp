@@ -1,10 +1,17 @@
 #include "spinewatch/capture/background_images.hpp"
 
+#include <algorithm>
+#include <array>
+#include <fstream>
+#include <string_view>
 #include <system_error>
+#include <utility>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "spinewatch/frames/printable.hpp"
 
 namespace spinewatch {
 namespace {
@@ -42,14 +49,46 @@ cv::Mat bgr_of(const SceneImage& image) {
   return bgr;
 }
 
+// The largest scene a camera delivers (config: cameras.width/height <= 4096).
+constexpr std::uint32_t kMaxSide = 4096;
+
+// The size a PNG declares in its IHDR chunk, read before anything is
+// decoded: OpenCV allocates width x height x channels first, so a crafted
+// header (a valid checksum over 30000x30000) would have it ask for
+// gigabytes. Only PNG is read (interfaces.md §2), not whatever else
+// imread would decode.
+Result<std::pair<std::uint32_t, std::uint32_t>> png_size(const std::filesystem::path& path) {
+  static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::array<unsigned char, 24> head{};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(head.data()), head.size());
+  if (!in || !std::equal(kSignature.begin(), kSignature.end(), head.begin()) ||
+      std::string_view(reinterpret_cast<const char*>(head.data() + 12), 4) != "IHDR")
+    return Error{fmt::format("{}: not a PNG file", path.string())};
+  const auto be32 = [&](std::size_t at) {
+    return std::uint32_t{head[at]} << 24 | std::uint32_t{head[at + 1]} << 16 | std::uint32_t{head[at + 2]} << 8 |
+           std::uint32_t{head[at + 3]};
+  };
+  return std::pair{be32(16), be32(20)};
+}
+
 Result<SceneImage> read_scene(const std::filesystem::path& path, int width, int height) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{fmt::format("{}: no such file", path.string())};
+  auto declared = png_size(path);
+  if (!declared) return declared.error();
+  const auto [declared_width, declared_height] = *declared;
+  if (width > 0 && (declared_width != std::uint32_t(width) || declared_height != std::uint32_t(height)))
+    return Error{fmt::format("{}: {}x{} does not match the cameras' {}x{}", path.string(), declared_width,
+                             declared_height, width, height)};
+  if (declared_width == 0 || declared_height == 0 || declared_width > kMaxSide || declared_height > kMaxSide)
+    return Error{fmt::format("{}: {}x{} is not a camera's size (1..{} a side)", path.string(), declared_width,
+                             declared_height, kMaxSide)};
   cv::Mat image;
   try {
     image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    return Error{fmt::format("{}: {}", path.string(), e.what())};
+  } catch (const std::exception& e) {  // cv::Exception, or a standard one from a decoder
+    return Error{fmt::format("{}: {}", path.string(), printable(e.what()))};
   }
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3 && image.channels() != 4))
     return Error{fmt::format("{}: cannot be read as an 8-bit grey or colour image", path.string())};

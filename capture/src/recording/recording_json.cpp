@@ -1,13 +1,12 @@
 #include "recording_json.hpp"
 
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <string_view>
 
 #include <fmt/format.h>
 
 #include "spinewatch/capture/json_text.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::recording_detail {
 namespace {
@@ -184,12 +183,10 @@ Result<DeclaredRecording> parse_recording_json(const std::filesystem::path& file
   std::error_code ec;
   if (!std::filesystem::exists(file, ec))
     return check.error("missing (a recording directory holds frontal.raw, lateral.raw and recording.json)");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return check.error("cannot open for reading");
-  std::stringstream text;
-  text << in.rdbuf();
+  auto text = read_text_file(file);
+  if (!text) return text.error();
 
-  auto doc = parse_text(check, text.str());
+  auto doc = parse_text(check, *text);
   if (!doc) return doc.error();
   if (!doc->is_object()) return check.error(fmt::format("must be a JSON object, got {}", JsonChecker::describe(*doc)));
 

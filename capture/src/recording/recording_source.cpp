@@ -11,16 +11,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/frames/clock.hpp"
+
 namespace spinewatch {
 namespace {
-
-// std::chrono::steady_clock is CLOCK_MONOTONIC in libstdc++, so deadlines
-// built from this value sleep on CLOCK_MONOTONIC (pthread_cond_clockwait).
-std::int64_t monotonic_now_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 }  // namespace
 

@@ -11,16 +11,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/frames/clock.hpp"
 #include "stream_session.hpp"
 
 namespace spinewatch {
 namespace {
-
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Keeps a V4L2 buffer out of the driver's queue while a Frame uses it.
 class BufferLease {
@@ -62,7 +57,7 @@ Status V4l2Camera::open_session() {
   }
   last_driver_sequence_.reset();
   sequence_base_ = next_sequence_;
-  last_frame_ns_ = monotonic_ns();
+  last_frame_ns_ = monotonic_now_ns();
   streaming_.store(true);
   spdlog::info("{}: streaming {} at {:.2f} fps, {} buffers", name_, describe(session_->format()), session_->fps(),
                session_->buffer_count());
@@ -86,7 +81,7 @@ void V4l2Camera::lose_device(const std::string& why) {
   session_.reset();
   streaming_.store(false);
   backoff_ = options_.retry_initial;
-  retry_at_ns_ = monotonic_ns() + std::chrono::nanoseconds(backoff_).count();
+  retry_at_ns_ = monotonic_now_ns() + std::chrono::nanoseconds(backoff_).count();
 }
 
 void V4l2Camera::try_reopen() {
@@ -98,7 +93,7 @@ void V4l2Camera::try_reopen() {
   }
   spdlog::debug("{}", opened.error().message);  // the loss was logged once; retries are quiet
   backoff_ = std::min(backoff_ * 2, options_.retry_max);
-  retry_at_ns_ = monotonic_ns() + std::chrono::nanoseconds(backoff_).count();
+  retry_at_ns_ = monotonic_now_ns() + std::chrono::nanoseconds(backoff_).count();
 }
 
 void V4l2Camera::check_watchdog(std::int64_t now_ns) {
@@ -111,9 +106,9 @@ void V4l2Camera::check_watchdog(std::int64_t now_ns) {
 }
 
 std::optional<Frame> V4l2Camera::next(std::chrono::milliseconds timeout) {
-  const std::int64_t deadline = monotonic_ns() + std::chrono::nanoseconds(timeout).count();
+  const std::int64_t deadline = monotonic_now_ns() + std::chrono::nanoseconds(timeout).count();
   while (!stopped_.load()) {
-    const std::int64_t now = monotonic_ns();
+    const std::int64_t now = monotonic_now_ns();
     if (now >= deadline && timeout.count() >= 0) {
       check_watchdog(now);
       return std::nullopt;
@@ -136,7 +131,7 @@ std::optional<Frame> V4l2Camera::next(std::chrono::milliseconds timeout) {
       return std::nullopt;
     }
     if (fds[0].revents & POLLIN) return std::nullopt;  // stop()
-    check_watchdog(monotonic_ns());
+    check_watchdog(monotonic_now_ns());
     if (!session_ || n <= 0) continue;
     if (fds[1].revents & (POLLERR | POLLHUP | POLLNVAL)) {
       lose_device("POLLERR");
@@ -155,7 +150,7 @@ std::optional<Frame> V4l2Camera::next(std::chrono::milliseconds timeout) {
     }
     last_driver_sequence_ = buf.sequence;
     next_sequence_ = sequence_base_ + buf.sequence + 1;
-    last_frame_ns_ = monotonic_ns();
+    last_frame_ns_ = monotonic_now_ns();
     if (stalled_.exchange(false)) spdlog::info("{}: frames again", name_);
 
     // The lease requeues the buffer when the Frame (or this early return) lets go of it.

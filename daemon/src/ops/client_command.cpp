@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "spinewatch/frames/printable.hpp"
+
 namespace spinewatch {
 namespace {
 
@@ -55,13 +57,17 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   const auto command = j.find("command");
   if (command == j.end()) return Error{"command: missing"};
   if (!command->is_string()) return Error{fmt::format("command: expected a string, got {}", command->type_name())};
+  // What a client sent is quoted through printable(): the message goes to
+  // the log, and a "\n" in a client's string must not forge a log line
+  // (found by the client_command fuzzer).
   if (*command != "set_worker")
-    return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)", command->get<std::string>())};
+    return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)",
+                             printable(command->get<std::string>()))};
   for (const auto& [key, value] : j.items())
     if (key != "command" && key != "id" &&
         std::none_of(std::begin(kFields), std::end(kFields), [&](const Bounds& b) { return key == b.key; }))
       return Error{fmt::format(
-          "{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id)", key)};
+          "{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id)", printable(key))};
   SetWorkerCommand c;
   if (const auto id = j.find("id"); id != j.end() && !id->is_null()) {
     if (!id->is_string()) return Error{fmt::format("id: expected a string or null, got {}", id->type_name())};

@@ -4,15 +4,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/frames/clock.hpp"
+
 namespace spinewatch {
 
 PairSource::~PairSource() = default;
-
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 Pipeline::Pipeline(std::unique_ptr<PairSource> source, PostureFn estimate, PostureSink sink, PipelineOptions options)
     : source_(std::move(source)), estimate_(std::move(estimate)), sink_(std::move(sink)), queue_(options.pair_queue), lossless_(options.lossless) {}
@@ -40,7 +36,7 @@ void Pipeline::run_source() {
   while (auto pair = source_->next()) {
     pair->sequence = seq++;
     pairs_.fetch_add(1, std::memory_order_relaxed);
-    Queued item{std::move(*pair), monotonic_ns()};
+    Queued item{std::move(*pair), monotonic_now_ns()};
     if (lossless_) {
       if (!queue_.push_waiting(std::move(item))) break;
     } else if (queue_.push(std::move(item))) {
@@ -65,7 +61,7 @@ void Pipeline::run_estimator() {
     }
     posture.seq = item->pair.sequence;
     posture.t_ns = item->pair.timestamp_ns;
-    posture.latency_us = std::max<std::int64_t>(0, (monotonic_ns() - item->received_ns) / 1000);
+    posture.latency_us = std::max<std::int64_t>(0, (monotonic_now_ns() - item->received_ns) / 1000);
     pairs_processed_.fetch_add(1, std::memory_order_relaxed);
     sink_(posture);
   }

@@ -98,7 +98,7 @@ class CameraPairSource final : public PairSource {
       frame.reset();  // the buffer goes back to the driver now
       std::lock_guard lock(mutex_);
       if (stopped_) return;
-      pairer_.push(static_cast<sync::Stream>(index), std::move(copy));
+      pairer_.push(kViews[index], std::move(copy));
       queue_pairs();
     }
   }
@@ -128,12 +128,6 @@ class CameraPairSource final : public PairSource {
   std::jthread threads_[2];
 };
 
-sync::PairerOptions pairing_of(const CameraPairOptions& options) {
-  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != "free-run"};
-  p.frame_latency_ns[0] = p.frame_latency_ns[1] = options.frame_latency_ns;
-  return p;
-}
-
 TriggerFactory default_trigger(const CameraPairOptions& options) {
   if (options.trigger.mode == "free-run") return {};
   return [trigger = options.trigger](sync::TriggerSource::EdgeCallback on_edge) {
@@ -142,6 +136,12 @@ TriggerFactory default_trigger(const CameraPairOptions& options) {
 }
 
 }  // namespace
+
+sync::PairerOptions pairer_options(const CameraPairOptions& options) {
+  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != "free-run"};
+  p.frame_latency_ns[0] = p.frame_latency_ns[1] = options.frame_latency_ns;
+  return p;
+}
 
 CameraPairOptions camera_pair_options(const Config& config) {
   auto camera = [&](const std::string& path, const char* name) {
@@ -174,7 +174,7 @@ Result<std::unique_ptr<PairSource>> open_camera_pair_source(const CameraPairOpti
                                                             TriggerFactory make_trigger) {
   auto source = std::make_unique<CameraPairSource>(
       std::make_unique<V4l2Camera>(options.frontal, std::move(frontal)),
-      std::make_unique<V4l2Camera>(options.lateral, std::move(lateral)), pairing_of(options), options.ready_pairs,
+      std::make_unique<V4l2Camera>(options.lateral, std::move(lateral)), pairer_options(options), options.ready_pairs,
       fmt::format("v4l2 {} {}", options.frontal.path, options.lateral.path));
   if (auto started = source->start(make_trigger ? make_trigger : default_trigger(options)); !started)
     return started.error();
@@ -193,7 +193,7 @@ Result<std::unique_ptr<PairSource>> open_libcamera_pair_source(const Config& con
   auto lateral = camera(v4l2.lateral);
   if (!lateral) return lateral.error();
   auto source = std::make_unique<CameraPairSource>(
-      std::move(frontal).value(), std::move(lateral).value(), pairing_of(v4l2), v4l2.ready_pairs,
+      std::move(frontal).value(), std::move(lateral).value(), pairer_options(v4l2), v4l2.ready_pairs,
       fmt::format("libcamera \"{}\" \"{}\"", v4l2.frontal.path, v4l2.lateral.path));
   if (auto started = source->start(default_trigger(v4l2)); !started) return started.error();
   return std::unique_ptr<PairSource>(std::move(source));

@@ -25,7 +25,7 @@ class RecordingPairSource final : public PairSource {
         ended_ = true;
         pairer_.flush();
       } else {
-        pairer_.push(static_cast<sync::Stream>(frame->view), std::move(frame->frame));
+        pairer_.push(frame->view, std::move(frame->frame));
       }
       publish_stats();
     }

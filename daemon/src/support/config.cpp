@@ -1,14 +1,15 @@
 #include "spinewatch/daemon/config.hpp"
 
-#include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <variant>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
+
+#include "spinewatch/frames/printable.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
 namespace {
@@ -196,11 +197,12 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
   try {
     root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
-    return Error{fmt::format("{}:{}: {}", source, e.source().begin.line, e.description())};
+    // toml++ quotes the character it stopped at, a line end included.
+    return Error{fmt::format("{}:{}: {}", source, e.source().begin.line, printable(e.description()))};
   }
   Config config;
   for (const auto& [section_key, section] : root) {
-    const std::string section_name(section_key.str());
+    const std::string section_name = printable(section_key.str());  // a quoted key may hold anything
     if (!section.is_table()) {
       if (known_section(section_name))
         return Error{fmt::format("{}: {}: expected a table [{}]", at(source, section), section_name, section_name)};
@@ -209,7 +211,7 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
     if (!known_section(section_name))
       return Error{fmt::format("{}: [{}]: unknown section", at(source, section), section_name)};
     for (const auto& [key, value] : *section.as_table()) {
-      const std::string name = section_name + "." + std::string(key.str());
+      const std::string name = section_name + "." + printable(key.str());
       const Key* k = find_key(name);
       if (!k) return Error{fmt::format("{}: {}: unknown key", at(source, value), name)};
       if (auto problem = k->set(config, value))
@@ -234,11 +236,9 @@ KnownWorker known_worker(const Config::Subject& s) {
 }
 
 Result<Config> load_config(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) return Error{fmt::format("{}: cannot be read", path.string())};
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_config(text.str(), path.string());
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  return parse_config(*text, path.string());
 }
 
 }  // namespace spinewatch

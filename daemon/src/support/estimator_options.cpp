@@ -1,9 +1,8 @@
 #include "spinewatch/daemon/estimator_options.hpp"
 
-#include <fstream>
-#include <sstream>
-
 #include <fmt/format.h>
+
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
 
@@ -37,11 +36,9 @@ namespace {
 template <class Parse>
 auto load_model(const std::string& key, const std::string& path, Parse parse)
     -> decltype(parse(std::string_view{}, std::string_view{})) {
-  std::ifstream in(path);
-  if (!in) return Error{fmt::format("{}: {}: cannot be read", key, path)};
-  std::stringstream text;
-  text << in.rdbuf();
-  auto parsed = parse(text.str(), path);
+  auto text = read_text_file(path);
+  if (!text) return Error{fmt::format("{}: {}", key, text.error().message)};
+  auto parsed = parse(*text, path);
   if (!parsed) return Error{fmt::format("{}: {}", key, parsed.error().message)};
   return parsed;
 }

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <string_view>
 
+#include "spinewatch/frames/printable.hpp"
+#include "spinewatch/frames/text_file.hpp"
+
 #include <opencv2/core.hpp>
 #include <Eigen/Dense>
 #include <opencv2/core/eigen.hpp>
@@ -39,11 +42,32 @@ Result<std::optional<std::string>> find_key(const cv::FileNode& node, const std:
   return found;
 }
 
+// OpenCV sizes a matrix from its header before it reads the data, so a
+// corrupt header ("cols: 2147483647") would have it allocate gigabytes:
+// the header is checked first. No matrix here has more than 9 elements.
+Status check_matrix_header(const cv::FileNode& node, const std::string& where, const char* key) {
+  constexpr int kMaxSide = 16;
+  const auto small = [](const cv::FileNode& n) { return n.isInt() && int(n) >= 1 && int(n) <= kMaxSide; };
+  const auto bad = [&] {
+    return Error{fmt::format("{}{}: not a matrix (rows and cols must be integers 1..{})", where, key, kMaxSide)};
+  };
+  if (!node.isMap()) return Error{fmt::format("{}{}: not a matrix", where, key)};
+  if (const cv::FileNode sizes = node["sizes"]; !sizes.empty()) {  // opencv-nd-matrix
+    if (!sizes.isSeq() || sizes.size() < 1 || sizes.size() > 2) return bad();
+    for (const cv::FileNode& side : sizes)
+      if (!small(side)) return bad();
+    return Ok{};
+  }
+  if (!small(node["rows"]) || !small(node["cols"])) return bad();
+  return Ok{};
+}
+
 Result<cv::Mat> read_any_matrix(const cv::FileNode& camera, const std::string& where, const std::string& key) {
+  if (auto header = check_matrix_header(camera[key], where, key.c_str()); !header) return header.error();
   cv::Mat m;
   try {
     camera[key] >> m;
-  } catch (const cv::Exception&) {
+  } catch (const std::exception&) {  // cv::Exception, or a standard one from OpenCV's reader
     return Error{fmt::format("{}{}: not a matrix", where, key)};
   }
   if (m.empty()) return Error{fmt::format("{}{}: not a matrix", where, key)};
@@ -161,45 +185,86 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
   return cam;
 }
 
-Status open_storage(cv::FileStorage& fs, const std::filesystem::path& path) {
-  const std::string file = path.string();
-  if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
-  try {
-    if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
-  } catch (const cv::Exception& e) {
-    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, e.err)};
+// What OpenCV 4.6 cannot be trusted to read, refused before it sees the
+// file. Its YAML reader never returns on some malformed files (the
+// calibration_yaml fuzzer found "%YAML:1.0\n-----0\n-\n" and
+// "%YAML:1.0\n a: o\nf---\n"): a line holding "---" other than the
+// document marker alone is refused before OpenCV sees it (OpenCV writes
+// "---" alone, and no value of a calibration holds it). Other loops in
+// OpenCV's reader may remain: docs/testing.md, "Fuzzing".
+Status check_before_opencv(const std::string& text, const std::string& file) {
+  // calibration.yaml is FileStorage YAML (interfaces.md §2). OpenCV would
+  // also parse XML or JSON by the first character, and its 4.6 XML reader
+  // dereferences null on a header as short as "<?xml e=" (found by the
+  // calibration_yaml fuzzer): those are refused, as is a NUL byte.
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && (text[first] == '<' || text[first] == '{'))
+    return Error{fmt::format("{}: XML or JSON storage; calibration.yaml is read as YAML only", file)};
+  if (text.find('\0') != std::string::npos) return Error{fmt::format("{}: a NUL byte: not a text file", file)};
+  std::size_t line = 1;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view l(text.data() + at, end - at);
+    const std::string_view trimmed = l.substr(0, l.find_last_not_of(" \t\r") + 1);
+    if (l.find("---") != std::string_view::npos && trimmed != "---")
+      return Error{fmt::format("{}: line {}: \"{}\": \"---\" only as a document marker on a line of its own", file,
+                               line, printable(l.substr(0, 16)))};
+    at = end + 1;
   }
   return Ok{};
+}
+
+// Opens `path` for reading after the checks above. Every use of the
+// FileStorage must stay inside read_guarded's try: OpenCV's reader throws
+// cv::Exception from places a caller would not expect (indexing a root
+// that is not a map) and lets standard exceptions through
+// (std::length_error) — both found by the calibration_yaml fuzzer
+// (tests/fuzz), both ended the program before.
+template <typename T, typename Read>
+Result<T> read_guarded(const std::filesystem::path& path, Read&& read) {
+  const std::string file = path.string();
+  if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  if (auto checked = check_before_opencv(*text, file); !checked) return checked.error();
+  try {
+    cv::FileStorage fs;
+    if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
+    if (!fs.root().isMap()) return Error{fmt::format("{}: expected a map of named nodes", file)};
+    return read(fs, file);
+  } catch (const cv::Exception& e) {
+    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.err))};
+  } catch (const std::exception& e) {
+    return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.what()))};
+  }
 }
 
 }  // namespace
 
 Result<CameraRig> load_calibration(const std::filesystem::path& path) {
-  cv::FileStorage fs;
-  if (auto s = open_storage(fs, path); !s) return s.error();
-  const std::string file = path.string();
-  auto frontal = read_camera(fs, file, "frontal");
-  if (!frontal) return frontal.error();
-  auto lateral = read_camera(fs, file, "lateral");
-  if (!lateral) return lateral.error();
-  return CameraRig{*frontal, *lateral};
+  return read_guarded<CameraRig>(path, [](cv::FileStorage& fs, const std::string& file) -> Result<CameraRig> {
+    auto frontal = read_camera(fs, file, "frontal");
+    if (!frontal) return frontal.error();
+    auto lateral = read_camera(fs, file, "lateral");
+    if (!lateral) return lateral.error();
+    return CameraRig{*frontal, *lateral};
+  });
 }
 
 Result<CameraModel> load_intrinsics(const std::filesystem::path& path) {
-  cv::FileStorage fs;
-  if (auto s = open_storage(fs, path); !s) return s.error();
-  const std::string file = path.string();
-  const cv::FileNode root = fs.root();
-  auto key = find_key(root, file + ": ", kCameraMatrixKeys);
-  if (!key) return key.error();
-  if (!*key) {
-    if (!fs["frontal"].empty() || !fs["lateral"].empty())
-      return Error{fmt::format("{}: a station's calibration (frontal, lateral), not one camera's intrinsics; "
-                               "use it as calibration.yaml",
-                               file)};
-    return Error{fmt::format("{}: camera_matrix: missing (nor Camera_Matrix, cameraMatrix)", file)};
-  }
-  return read_intrinsics(root, file + ": ");
+  return read_guarded<CameraModel>(path, [](cv::FileStorage& fs, const std::string& file) -> Result<CameraModel> {
+    const cv::FileNode root = fs.root();
+    auto key = find_key(root, file + ": ", kCameraMatrixKeys);
+    if (!key) return key.error();
+    if (!*key) {
+      if (!fs["frontal"].empty() || !fs["lateral"].empty())
+        return Error{fmt::format("{}: a station's calibration (frontal, lateral), not one camera's intrinsics; "
+                                 "use it as calibration.yaml",
+                                 file)};
+      return Error{fmt::format("{}: camera_matrix: missing (nor Camera_Matrix, cameraMatrix)", file)};
+    }
+    return read_intrinsics(root, file + ": ");
+  });
 }
 
 Status check_image_size(const CameraRig& rig, int width, int height) {

@@ -272,7 +272,7 @@ CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteR
   return impl_->track(frontal.mask, lateral.mask, flag);
 }
 
-BitMask CvsmTracker::fitted_mask(int view) {
+BitMask CvsmTracker::fitted_mask(View view) {
   Impl& m = *impl_;
   // After finish(), `points` hold the full model at the reported pose and
   // the cost counts every row.

@@ -224,9 +224,9 @@ XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vec
   return counts;
 }
 
-BitMask XorCost::render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view) {
+BitMask XorCost::render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, View view) {
   BitMask out(width_, height_);
-  if (!rasterize(model, points, view)) return out;
+  if (!rasterize(model, points, static_cast<int>(index_of(view)))) return out;
   for (int y = y_lo_; y <= y_hi_; ++y)
     std::copy_n(rows_.data() + static_cast<std::ptrdiff_t>(y) * words_, words_, out.row(y));
   return out;

@@ -189,7 +189,7 @@ struct PostureEstimator::Impl {
   void update_gates() {
     for (int v = 0; v < 2; ++v) {
       Gate& g = gates[v];
-      g.fitted = last_fit.state == TrackingState::Tracking ? tracker.fitted_mask(v) : BitMask{};
+      g.fitted = last_fit.state == TrackingState::Tracking ? tracker.fitted_mask(kViews[v]) : BitMask{};
       g.active = !g.fitted.empty();
       if (!g.active) continue;
       if (g.mask.width() != g.fitted.width() || g.mask.height() != g.fitted.height())

@@ -10,6 +10,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/spine_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spine_dynamics.cpp
   ${CMAKE_CURRENT_LIST_DIR}/deform_report.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/target_lines.cpp
   ${CMAKE_CURRENT_LIST_DIR}/stiffness_fit.cpp
   ${CMAKE_CURRENT_BINARY_DIR}/embedded/vertebra_geometry.cpp
   ${CMAKE_CURRENT_BINARY_DIR}/embedded/joint_stiffness.cpp)

@@ -1,13 +1,12 @@
 #include "spinewatch/estimator/spine/subject.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
 namespace {
@@ -80,11 +79,9 @@ Result<SubjectSpine> parse_subject_json(std::string_view text, std::string_view 
 }
 
 Result<SubjectSpine> load_subject_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{fmt::format("{}: cannot open", path.string())};
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_subject_json(text.str(), path.string());
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  return parse_subject_json(*text, path.string());
 }
 
 std::string subject_to_json(const SubjectSpine& subject) {

@@ -28,8 +28,8 @@ void FramePairer::insert_sorted(std::deque<Pending>& queue, Pending pending) {
   queue.insert(it, std::move(pending));
 }
 
-void FramePairer::push(Stream stream, Frame frame) {
-  const int s = index_of(stream);
+void FramePairer::push(View view, Frame frame) {
+  const int s = static_cast<int>(index_of(view));
   ++stats_.frames_in[s];
   auto& drops = stats_.drops[s];
   if (sequences_[s].observe(frame.sequence()) == SequenceTracker::Verdict::Duplicate) {

@@ -1,14 +1,7 @@
 #include "spinewatch/sync/edge_clock.hpp"
 
-#include <time.h>
-
 namespace spinewatch::sync {
 namespace {
-std::int64_t read_clock(clockid_t id) {
-  timespec ts{};
-  ::clock_gettime(id, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 std::int64_t distance(std::int64_t a, std::int64_t b) { return a > b ? a - b : b - a; }
 }  // namespace
 
@@ -24,8 +17,5 @@ std::int64_t to_monotonic(EdgeClock clock, std::int64_t event_ns, std::int64_t m
   if (clock == EdgeClock::Monotonic) return event_ns;
   return event_ns - (realtime_now_ns - monotonic_now_ns);
 }
-
-std::int64_t monotonic_now_ns() { return read_clock(CLOCK_MONOTONIC); }
-std::int64_t realtime_now_ns() { return read_clock(CLOCK_REALTIME); }
 
 }  // namespace spinewatch::sync

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/sync/edge_clock.hpp"
+#include "spinewatch/frames/clock.hpp"
 
 namespace spinewatch::sync {
 namespace {

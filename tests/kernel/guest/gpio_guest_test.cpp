@@ -114,9 +114,9 @@ TEST(Gpio, SlaveTimestampsPulls) {
   constexpr int kPulses = 5;
   for (int k = 0; k < kPulses; ++k) {
     SCOPED_TRACE("pulse " + std::to_string(k));
-    const std::int64_t before = monotonic_ns();
+    const std::int64_t before = monotonic_now_ns();
     sim_pull(kSlaveLine, "pull-up");
-    const std::int64_t after = monotonic_ns();
+    const std::int64_t after = monotonic_now_ns();
     const auto deadline = std::chrono::steady_clock::now() + 2s;
     while (edge_count() < static_cast<std::size_t>(k + 1) && std::chrono::steady_clock::now() < deadline) {
       std::this_thread::sleep_for(1ms);

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "spinewatch/frames/clock.hpp"
+
 namespace spinewatch::kernel_test {
 
 inline std::string env_or_empty(const char* name) {
@@ -31,7 +33,5 @@ inline std::string missing_reason(const char* skip_var, std::initializer_list<co
         !why_.empty())                                                                \
       GTEST_SKIP() << why_;                                                           \
   } while (false)
-
-std::int64_t monotonic_ns();
 
 }  // namespace spinewatch::kernel_test

@@ -52,7 +52,7 @@ std::vector<Captured> capture(V4l2Camera& camera, int count) {
   while (static_cast<int>(frames.size()) < count) {
     auto frame = camera.next(2s);
     if (!frame) break;
-    const std::int64_t now = monotonic_ns();
+    const std::int64_t now = monotonic_now_ns();
     frames.push_back({frame->info(), now, Frame::copy_of(frame->format(), frame->info(), frame->bytes())});
   }
   return frames;
@@ -100,7 +100,7 @@ TEST(V4l2, TwoVividCameras) {
   SW_REQUIRE_ENV("SW_V4L2_SKIP", "SW_VIDEO_A", "SW_VIDEO_B");
   V4l2Camera frontal(camera_options(env_or_empty("SW_VIDEO_A"), "frontal"));
   V4l2Camera lateral(camera_options(env_or_empty("SW_VIDEO_B"), "lateral"));
-  const std::int64_t t_start = monotonic_ns();
+  const std::int64_t t_start = monotonic_now_ns();
   ASSERT_TRUE(frontal.start().ok());
   ASSERT_TRUE(lateral.start().ok());
   for (const V4l2Camera* c : {&frontal, &lateral}) {
@@ -136,7 +136,7 @@ TEST(V4l2, TwoVividCameras) {
                               (next[0] < frames[0].size() && frames[0][next[0]].info.timestamp_ns <=
                                                                  frames[1][next[1]].info.timestamp_ns);
     const int v = take_frontal ? 0 : 1;
-    pairer.push(static_cast<sync::Stream>(v), frames[v][next[v]++].copy);
+    pairer.push(kViews[v], frames[v][next[v]++].copy);
     while (auto pair = pairer.pop()) pairs.push_back(std::move(*pair));
   }
   pairer.flush();

@@ -2,13 +2,12 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <unordered_set>
 
 #include <fmt/format.h>
 
 #include "spinewatch/anthropometry/csv.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::anthropometry {
 namespace {
@@ -122,11 +121,9 @@ Result<std::vector<AnsurSubject>> parse_ansur_csv(std::string_view text, std::st
 }
 
 Result<std::vector<AnsurSubject>> read_ansur_csv(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return Error{fmt::format("{}: cannot open", file.string())};
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_ansur_csv(text.str(), file.string());
+  auto text = read_text_file(file);
+  if (!text) return text.error();
+  return parse_ansur_csv(*text, file.string());
 }
 
 Result<std::vector<AnsurSubject>> read_ansur(const std::filesystem::path& directory) {

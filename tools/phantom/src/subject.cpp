@@ -1,15 +1,14 @@
 #include "spinewatch/phantom/subject.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "spinewatch/capture/json_text.hpp"
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::phantom {
 namespace {
@@ -249,11 +248,9 @@ Result<Subject> parse_subject(const json& j, std::string_view source) {
 }
 
 Result<Subject> load_subject(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) return Error{fmt::format("{}: cannot open", path.string())};
-  std::stringstream text;
-  text << in.rdbuf();
-  auto j = parse_json_text(text.str());
+  auto text = read_text_file(path);
+  if (!text) return text.error();
+  auto j = parse_json_text(*text);
   if (!j) return Error{fmt::format("{}: not valid JSON: {}", path.string(), j.error().message)};
   return parse_subject(*j, path.string());
 }

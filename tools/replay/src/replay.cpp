@@ -99,7 +99,7 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
   };
 
   while (auto frame = source->next()) {
-    pairer.push(frame->view == View::Frontal ? sync::Stream::Frontal : sync::Stream::Lateral, std::move(frame->frame));
+    pairer.push(frame->view, std::move(frame->frame));
     if (auto s = drain(); !s) return s.error();
   }
   if (source->error()) return *source->error();

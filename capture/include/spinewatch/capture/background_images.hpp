@@ -35,9 +35,10 @@ struct BackgroundImages {
 
 // Both files exist in `dir` (one without the other is an error when loading).
 bool has_background_images(const std::filesystem::path& dir);
-// Errors name the file and the problem (unreadable, not an image, sizes
-// that differ from each other or from `expected_width` × `expected_height`
-// when given).
+// Errors name the file and the problem (unreadable, not a PNG, not 8-bit,
+// sizes that differ from each other or from `expected_width` ×
+// `expected_height` when given, or beyond 4096 a side). The size is taken
+// from the PNG's header before anything is decoded.
 Result<BackgroundImages> load_background_images(const std::filesystem::path& frontal,
                                                 const std::filesystem::path& lateral, int expected_width = 0,
                                                 int expected_height = 0);

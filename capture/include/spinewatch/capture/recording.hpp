@@ -15,12 +15,9 @@
 
 #include "spinewatch/frames/frame.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "spinewatch/frames/view.hpp"
 
 namespace spinewatch {
-
-enum class View : std::uint8_t { Frontal = 0, Lateral = 1 };
-inline constexpr View kViews[] = {View::Frontal, View::Lateral};
-std::string_view to_string(View view);  // "frontal" / "lateral"
 
 // What recording.json says.
 struct RecordingInfo {

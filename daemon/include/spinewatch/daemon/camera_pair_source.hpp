@@ -10,6 +10,7 @@
 #include "spinewatch/capture/v4l2_camera.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/pair_source.hpp"
+#include "spinewatch/sync/frame_pairer.hpp"
 #include "spinewatch/sync/trigger_source.hpp"
 
 namespace spinewatch {
@@ -26,7 +27,11 @@ struct CameraPairOptions {
 using TriggerFactory =
     std::function<Result<std::unique_ptr<sync::TriggerSource>>(sync::TriggerSource::EdgeCallback on_edge)>;
 
+// The one mapping of [cameras] and [trigger] to camera, trigger and
+// pairing options (spinewatchd, and `spinewatch record` with its own
+// device paths).
 CameraPairOptions camera_pair_options(const Config& config);
+sync::PairerOptions pairer_options(const CameraPairOptions& options);
 // Starts both cameras; the error names the device and the problem.
 // The devices are the system's, or fakes in tests.
 Result<std::unique_ptr<PairSource>> open_camera_pair_source(const CameraPairOptions& options,

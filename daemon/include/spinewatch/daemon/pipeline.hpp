@@ -72,7 +72,4 @@ class Pipeline {
   bool stopped_ = false;
 };
 
-// CLOCK_MONOTONIC in nanoseconds (the time base of V4L2 timestamps).
-std::int64_t monotonic_ns();
-
 }  // namespace spinewatch

@@ -15,7 +15,4 @@ EdgeClock classify_edge_clock(std::int64_t event_ns, std::int64_t monotonic_now_
 std::int64_t to_monotonic(EdgeClock clock, std::int64_t event_ns, std::int64_t monotonic_now_ns,
                           std::int64_t realtime_now_ns);
 
-std::int64_t monotonic_now_ns();
-std::int64_t realtime_now_ns();
-
 }  // namespace spinewatch::sync

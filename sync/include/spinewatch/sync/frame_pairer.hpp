@@ -12,9 +12,9 @@
 #include <optional>
 
 #include "spinewatch/frames/frame_pair.hpp"
+#include "spinewatch/frames/view.hpp"
 #include "spinewatch/sync/pairing_stats.hpp"
 #include "spinewatch/sync/sequence_tracker.hpp"
-#include "spinewatch/sync/stream.hpp"
 
 namespace spinewatch::sync {
 
@@ -38,7 +38,7 @@ class FramePairer {
  public:
   explicit FramePairer(PairerOptions options);
 
-  void push(Stream stream, Frame frame);
+  void push(View view, Frame frame);
   void push_trigger(std::int64_t t_ns);
   // The next pair, in time order; consecutive sequence numbers from 0.
   std::optional<FramePair> pop();

@@ -15,6 +15,7 @@
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/frames/view.hpp"
 
 namespace spinewatch {
 
@@ -71,9 +72,9 @@ class CvsmTracker {
   // two blobs / occluded → the fit runs on the largest blob and is flagged.
   CvsmResult track(const SilhouetteResult& frontal, const SilhouetteResult& lateral);
 
-  // The fitted model's outline in one view (0 frontal, 1 lateral) after
-  // the last track(); empty when that frame was not tracking.
-  BitMask fitted_mask(int view);
+  // The fitted model's outline in one view after the last track(); empty
+  // when that frame was not tracking.
+  BitMask fitted_mask(View view);
   // The subject model once built (during init: the current estimate).
   const BodyModel* subject_model() const;
   // The given stature (CvsmOptions::stature_mm) when the standing

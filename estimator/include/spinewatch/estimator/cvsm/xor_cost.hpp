@@ -26,10 +26,9 @@
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/cvsm/fixed_camera.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
+#include "spinewatch/frames/view.hpp"
 
 namespace spinewatch {
-
-enum ViewIndex : int { kFrontal = 0, kLateral = 1 };
 
 struct XorCounts {
   std::array<std::int64_t, 2> xor_px{};         // per view
@@ -76,9 +75,9 @@ class XorCost {
   XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
                      std::int64_t limit = INT64_MAX);
   // The model's mask in one view (tests, diagnostics, the subject model).
-  BitMask render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
+  BitMask render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, View view);
   // Projected control points of the last render/evaluate, per view (Q8).
-  const std::vector<PixelQ8>& projected(int view) const { return projected_[static_cast<std::size_t>(view)]; }
+  const std::vector<PixelQ8>& projected(View view) const { return projected_[index_of(view)]; }
 
  private:
   struct ViewCache {

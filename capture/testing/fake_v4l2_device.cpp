@@ -1,4 +1,5 @@
 #include "spinewatch/capture/fake_v4l2_device.hpp"
+#include "spinewatch/frames/clock.hpp"
 
 #include <linux/videodev2.h>
 #include <sys/mman.h>
@@ -12,12 +13,6 @@
 namespace spinewatch {
 namespace {
 constexpr off_t kOffsetStep = 1 << 20;
-
-std::int64_t now_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 void copy_name(std::uint8_t* dst, std::size_t size, const std::string& src) {
   std::memset(dst, 0, size);
@@ -82,7 +77,7 @@ std::int64_t FakeV4l2Device::next_frame_time_locked() const {
 bool FakeV4l2Device::frame_ready_locked() const {
   if (!streaming_ || unplugged_ || queue_.empty()) return false;
   if (script_.stall_after && delivered_in_stream_ >= script_.stall_after) return false;
-  return !script_.paced || now_ns() >= next_frame_time_locked();
+  return !script_.paced || monotonic_now_ns() >= next_frame_time_locked();
 }
 
 int FakeV4l2Device::dequeue_locked(void* arg) {
@@ -231,7 +226,7 @@ int FakeV4l2Device::ioctl(int fd, unsigned long request, void* arg) {
       if (fd != owner_fd_ || buffers_.empty()) return fail(EINVAL);
       if (!streaming_) {
         streaming_ = true;
-        stream_start_ns_ = now_ns();
+        stream_start_ns_ = monotonic_now_ns();
         next_sequence_ = 0;
         delivered_in_stream_ = 0;
         ++stream_starts_;
@@ -295,7 +290,7 @@ int FakeV4l2Device::munmap(void* address, std::size_t /*length*/) {
 }
 
 int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
-  const std::int64_t start = now_ns();
+  const std::int64_t start = monotonic_now_ns();
   std::vector<pollfd> real;
   std::vector<nfds_t> real_index;
   for (;;) {
@@ -334,13 +329,13 @@ int FakeV4l2Device::poll(pollfd* fds, nfds_t count, int timeout_ms) {
         if (real[k].revents) ++ready;
       }
     }
-    const std::int64_t elapsed_ms = (now_ns() - start) / 1'000'000;
+    const std::int64_t elapsed_ms = (monotonic_now_ns() - start) / 1'000'000;
     if (ready > 0 || timeout_ms == 0 || (timeout_ms > 0 && elapsed_ms >= timeout_ms)) return ready;
     // Nothing yet: sleep briefly on the real descriptors (a wake-up eventfd
     // ends the sleep at once), then look again.
     std::int64_t wait_ms = 2;
     if (timeout_ms > 0) wait_ms = std::min<std::int64_t>(wait_ms, timeout_ms - elapsed_ms);
-    if (next_frame >= 0) wait_ms = std::min<std::int64_t>(wait_ms, std::max<std::int64_t>((next_frame - now_ns()) / 1'000'000, 0));
+    if (next_frame >= 0) wait_ms = std::min<std::int64_t>(wait_ms, std::max<std::int64_t>((next_frame - monotonic_now_ns()) / 1'000'000, 0));
     ::poll(real.data(), real.size(), static_cast<int>(std::max<std::int64_t>(wait_ms, 0)));
   }
 }

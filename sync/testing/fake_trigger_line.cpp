@@ -1,6 +1,7 @@
 #include "spinewatch/sync/fake_trigger_line.hpp"
 
 #include "spinewatch/sync/edge_clock.hpp"
+#include "spinewatch/frames/clock.hpp"
 
 namespace spinewatch::sync {
 
