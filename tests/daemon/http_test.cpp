@@ -16,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "http_client.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/daemon/daemon_metrics.hpp"
 #include "spinewatch/daemon/http_routes.hpp"
 #include "spinewatch/daemon/http_server.hpp"
@@ -265,7 +266,7 @@ TEST(LiveView, SamplesOnlyWhenWantedAtMostFpsAndDrawsWithoutCameraPixels) {
     EXPECT_TRUE(near(image.at<cv::Vec3b>(2 * 150, 2 * 160), 110));
   }
   std::this_thread::sleep_for(300ms);
-  live.want_state_until(monotonic_ns() + 1'000'000'000);
+  live.want_state_until(monotonic_now_ns() + 1'000'000'000);
   live.offer(pair, posture, trace);
   ASSERT_TRUE(test::eventually([&] { return count() == 3; }));
   std::lock_guard lock(mutex);

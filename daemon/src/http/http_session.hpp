@@ -18,6 +18,7 @@
 #include <spdlog/spdlog.h>
 
 #include "http_server_impl.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/daemon/http_routes.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
 
@@ -139,7 +140,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
         respond(http::status::ok, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s.metrics()));
         return;
       case HttpRoute::State: {
-        const std::int64_t now = monotonic_ns();
+        const std::int64_t now = monotonic_now_ns();
         s.live.want_state_until(now + kWantedNs);
         if (s.latest && now - s.latest->summary.taken_ns < kFreshNs) {
           answer_state();
@@ -149,7 +150,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
         return;
       }
       case HttpRoute::Snapshot: {
-        const std::int64_t now = monotonic_ns();
+        const std::int64_t now = monotonic_now_ns();
         s.live.want_picture_until(now + kWantedNs);
         if (s.latest_picture && now - s.latest_picture->summary.taken_ns < kFreshNs) {
           answer_snapshot(s.latest_picture->jpeg);
@@ -198,7 +199,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     wait_timer_.cancel();
     const auto& s = *server_;
     respond(http::status::ok, "application/json",
-            state_json(s.station, s.metrics(), s.latest ? &s.latest->summary : nullptr, monotonic_ns()));
+            state_json(s.station, s.metrics(), s.latest ? &s.latest->summary : nullptr, monotonic_now_ns()));
   }
 
   void answer_snapshot(const std::shared_ptr<const std::string>& jpeg) {

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/daemon/pipeline.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/overlay/overlay.hpp"
 
 namespace spinewatch {
@@ -45,7 +46,7 @@ void LiveView::offer(const FramePair& pair, const Posture& posture, const Estima
   const std::int64_t picture_until = picture_until_ns_.load(std::memory_order_relaxed);
   const std::int64_t state_until = state_until_ns_.load(std::memory_order_relaxed);
   if (!viewers && picture_until == 0 && state_until == 0) return;
-  const std::int64_t now = monotonic_ns();
+  const std::int64_t now = monotonic_now_ns();
   const bool picture = viewers || now < picture_until;
   if (!picture && now >= state_until) return;
   if (now - last_offer_ns_ < period_ns_) return;
