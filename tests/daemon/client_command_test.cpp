@@ -76,7 +76,7 @@ TEST(ClientCommand, WhatAClientSentCannotForgeALogLine) {
   EXPECT_EQ(command.error().message, R"(command: "x\n2026-12-02 info: forged" is not a command (known: set_worker))");
   auto key = parse_client_command(R"({"command": "set_worker", "a\u001bb": 1})");
   ASSERT_FALSE(key);
-  EXPECT_EQ(key.error().message, R"(a\x1bb: not a field of set_worker (stature_mm, mass_kg))");
+  EXPECT_EQ(key.error().message, R"(a\x1bb: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id))");
 }
 
 TEST(ClientCommand, RepliesAreReplyLines) {

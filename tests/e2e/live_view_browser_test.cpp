@@ -51,18 +51,29 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
   const long frames_before = frames_written();
   ASSERT_GE(frames_before, 0);
 
+  // Two pages a second or more apart that show a tracked spine. The
+  // embedded default loops a recording whose first frames are the empty
+  // scene: a page loaded then rightly shows "lost" and is taken again
+  // (at most eight loads).
   std::vector<std::string> spines;
-  for (int i = 0; i < 2; ++i) {
-    if (i > 0) std::this_thread::sleep_for(1200ms);
+  std::vector<std::string> other_states;
+  for (int load = 0; load < 8 && spines.size() < 2; ++load) {
+    if (load > 0) std::this_thread::sleep_for(1200ms);
     const auto r = test::run_command(chromium(dir, "--dump-dom", url) + " 2>" + (dir / "chromium.err").string());
     if (r.exit_code != 0 || r.output.find("<html") == std::string::npos)
       GTEST_SKIP() << "chromium cannot run here (exit " << r.exit_code << "): " << test::read_file(dir / "chromium.err").substr(0, 600);
-    EXPECT_EQ(attribute(r.output, "state", "data-state"), "tracking") << r.output.substr(0, 2000);
+    const std::string state = attribute(r.output, "state", "data-state");
+    if (state != "tracking") {
+      other_states.push_back(state);
+      continue;
+    }
     spines.push_back(attribute(r.output, "spine-side", "data-points"));
     ASSERT_FALSE(spines.back().empty()) << "no spine drawn:\n" << r.output.substr(0, 4000);
     // 17 vertebrae, T1 to L5.
     EXPECT_EQ(std::count(spines.back().begin(), spines.back().end(), ' '), 16) << spines.back();
   }
+  ASSERT_EQ(spines.size(), 2u) << "pages not tracking: " << other_states.size();
+  EXPECT_LE(other_states.size(), 2u) << "the page showed a tracked spine too rarely";
   EXPECT_NE(spines[0], spines[1]) << "the spine view did not change while the phantom bends";
   EXPECT_GT(frames_written(), frames_before) << "the page's MJPEG stream received no frame";
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <string_view>
 
 #include "spinewatch/frames/printable.hpp"
@@ -185,22 +186,35 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
   return cam;
 }
 
+// Which FileStorage formats a reader takes: calibration.yaml is YAML
+// (interfaces.md §2); one camera's intrinsics from OpenCV's samples may be
+// XML too (the calibration tutorial writes out_camera_data.xml).
+enum class StorageFormats : std::uint8_t { YamlOnly, YamlOrXml };
+
 // What OpenCV 4.6 cannot be trusted to read, refused before it sees the
 // file. Its YAML reader never returns on some malformed files (the
 // calibration_yaml fuzzer found "%YAML:1.0\n-----0\n-\n" and
 // "%YAML:1.0\n a: o\nf---\n"): a line holding "---" other than the
 // document marker alone is refused before OpenCV sees it (OpenCV writes
-// "---" alone, and no value of a calibration holds it). Other loops in
-// OpenCV's reader may remain: docs/testing.md, "Fuzzing".
-Status check_before_opencv(const std::string& text, const std::string& file) {
-  // calibration.yaml is FileStorage YAML (interfaces.md §2). OpenCV would
-  // also parse XML or JSON by the first character, and its 4.6 XML reader
-  // dereferences null on a header as short as "<?xml e=" (found by the
-  // calibration_yaml fuzzer): those are refused, as is a NUL byte.
+// "---" alone, and no value of a calibration holds it). Its XML reader
+// dereferences null on a header as short as "<?xml e=" (the same fuzzer):
+// XML is taken only where allowed and only after a whole
+// `<?xml version="…"?>` declaration. JSON is never taken, nor a NUL byte.
+// Other loops in OpenCV's reader may remain: docs/testing.md, "Fuzzing".
+Status check_before_opencv(const std::string& text, const std::string& file, StorageFormats formats) {
   const std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && (text[first] == '<' || text[first] == '{'))
+  const char opening = first == std::string::npos ? '\0' : text[first];
+  if ((opening == '<' || opening == '{') && formats == StorageFormats::YamlOnly)
     return Error{fmt::format("{}: XML or JSON storage; calibration.yaml is read as YAML only", file)};
+  if (opening == '{') return Error{fmt::format("{}: JSON storage; read as YAML or XML only", file)};
   if (text.find('\0') != std::string::npos) return Error{fmt::format("{}: a NUL byte: not a text file", file)};
+  if (opening == '<') {
+    const std::size_t line_end = std::min(text.find('\n', first), text.size());
+    const std::string_view declaration(text.data() + first, line_end - first);
+    if (declaration.rfind("<?xml version=\"", 0) != 0 || declaration.find("?>") == std::string_view::npos)
+      return Error{fmt::format("{}: XML without a whole <?xml version=\"1.0\"?> declaration on its first line", file)};
+    return Ok{};
+  }
   std::size_t line = 1;
   for (std::size_t at = 0; at < text.size(); ++line) {
     const std::size_t end = std::min(text.find('\n', at), text.size());
@@ -221,16 +235,16 @@ Status check_before_opencv(const std::string& text, const std::string& file) {
 // (std::length_error) — both found by the calibration_yaml fuzzer
 // (tests/fuzz), both ended the program before.
 template <typename T, typename Read>
-Result<T> read_guarded(const std::filesystem::path& path, Read&& read) {
+Result<T> read_guarded(const std::filesystem::path& path, StorageFormats formats, const char* expected, Read&& read) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) return Error{fmt::format("{}: no such file", file)};
   auto text = read_text_file(path);
   if (!text) return text.error();
-  if (auto checked = check_before_opencv(*text, file); !checked) return checked.error();
+  if (auto checked = check_before_opencv(*text, file, formats); !checked) return checked.error();
   try {
     cv::FileStorage fs;
     if (!fs.open(file, cv::FileStorage::READ)) return Error{fmt::format("{}: cannot be read", file)};
-    if (!fs.root().isMap()) return Error{fmt::format("{}: expected a map of named nodes", file)};
+    if (!fs.root().isMap()) return Error{fmt::format("{}: expected a map with {}", file, expected)};
     return read(fs, file);
   } catch (const cv::Exception& e) {
     return Error{fmt::format("{}: not an OpenCV FileStorage file ({})", file, printable(e.err))};
@@ -242,7 +256,8 @@ Result<T> read_guarded(const std::filesystem::path& path, Read&& read) {
 }  // namespace
 
 Result<CameraRig> load_calibration(const std::filesystem::path& path) {
-  return read_guarded<CameraRig>(path, [](cv::FileStorage& fs, const std::string& file) -> Result<CameraRig> {
+  return read_guarded<CameraRig>(path, StorageFormats::YamlOnly, "the nodes frontal and lateral",
+                                 [](cv::FileStorage& fs, const std::string& file) -> Result<CameraRig> {
     auto frontal = read_camera(fs, file, "frontal");
     if (!frontal) return frontal.error();
     auto lateral = read_camera(fs, file, "lateral");
@@ -252,7 +267,8 @@ Result<CameraRig> load_calibration(const std::filesystem::path& path) {
 }
 
 Result<CameraModel> load_intrinsics(const std::filesystem::path& path) {
-  return read_guarded<CameraModel>(path, [](cv::FileStorage& fs, const std::string& file) -> Result<CameraModel> {
+  return read_guarded<CameraModel>(path, StorageFormats::YamlOrXml, "camera_matrix and distortion_coefficients",
+                                   [](cv::FileStorage& fs, const std::string& file) -> Result<CameraModel> {
     const cv::FileNode root = fs.root();
     auto key = find_key(root, file + ": ", kCameraMatrixKeys);
     if (!key) return key.error();
