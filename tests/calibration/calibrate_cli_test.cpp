@@ -16,12 +16,7 @@
 namespace spinewatch {
 namespace {
 
-std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
-  std::vector<nlohmann::json> lines;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
+using test::read_ndjson;
 
 class CalibrateCli : public ::testing::Test {
  protected:
@@ -88,7 +83,7 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   auto recovered = test::run_cli("replay --recording " + (dir / "rec").string() + " --calibration " +
                                  (dir_->path() / "calibration.yaml").string() + " --out " + (dir / "rec.ndjson").string());
   ASSERT_EQ(recovered.exit_code, 0) << recovered.output;
-  const auto a = read_lines(dir / "truth.ndjson"), b = read_lines(dir / "rec.ndjson");
+  const auto a = read_ndjson(dir / "truth.ndjson"), b = read_ndjson(dir / "rec.ndjson");
   ASSERT_EQ(a.size(), b.size());
   double worst = 0, sum = 0;
   int tracked = 0, n = 0;

@@ -23,12 +23,7 @@ namespace {
 
 constexpr int kWidth = 320, kHeight = 240, kScale = 2;
 
-std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
-  std::vector<nlohmann::json> lines;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
+using test::read_ndjson;
 
 bool is(const cv::Vec3b& px, const cv::Scalar& c) { return px[0] == c[0] && px[1] == c[1] && px[2] == c[2]; }
 
@@ -41,7 +36,7 @@ class ReplayOverlay : public ::testing::Test {
     r = test::run_cli("replay --recording " + rec().string() + " --out " + (dir_->path() / "p.ndjson").string() +
                       " --overlay " + (dir_->path() / "ovl").string() + " --every 3");
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    lines_ = new std::vector<nlohmann::json>(read_lines(dir_->path() / "p.ndjson"));
+    lines_ = new std::vector<nlohmann::json>(read_ndjson(dir_->path() / "p.ndjson"));
   }
   static void TearDownTestSuite() {
     delete lines_;

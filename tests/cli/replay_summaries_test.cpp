@@ -11,12 +11,7 @@
 namespace spinewatch {
 namespace {
 
-std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
-  std::vector<nlohmann::json> lines;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
+using test::read_ndjson;
 
 TEST(ReplaySummaries, IntervalsOfTheConfiguredLengthThenTheShiftValidAgainstTheSchema) {
   test::TempDir dir;
@@ -32,9 +27,9 @@ TEST(ReplaySummaries, IntervalsOfTheConfiguredLengthThenTheShiftValidAgainstTheS
                                 " --out " + (dir / "p.ndjson").string() + " --summaries " + summaries.string());
     ASSERT_EQ(replay.exit_code, 0) << replay.output;
     EXPECT_EQ(test::validate_ndjson(summaries), "");
-    by_interval[std::stoi(interval_s)] = read_lines(summaries);
+    by_interval[std::stoi(interval_s)] = read_ndjson(summaries);
     // --out keeps posture lines only (interfaces.md §3).
-    for (const auto& p : read_lines(dir / "p.ndjson")) ASSERT_EQ(p.at("class"), "posture");
+    for (const auto& p : read_ndjson(dir / "p.ndjson")) ASSERT_EQ(p.at("class"), "posture");
   }
   // 3.33 s: [0,1) [1,2) [2,3) [3,3.33) with 1 s; [0,2) [2,3.33) with 2 s; each with the shift.
   ASSERT_EQ(by_interval[1].size(), 8u);

@@ -13,12 +13,7 @@
 namespace spinewatch {
 namespace {
 
-std::vector<nlohmann::json> read_lines(const std::filesystem::path& path) {
-  std::vector<nlohmann::json> lines;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
+using test::read_ndjson;
 
 class Replay : public ::testing::Test {
  protected:
@@ -41,8 +36,8 @@ TEST_F(Replay, OneSchemaValidLinePerPairInOrder) {
   auto r = test::run_cli("replay --recording " + rec().string() + " --out " + (out / "p.ndjson").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(test::validate_ndjson(out / "p.ndjson"), "");
-  const auto lines = read_lines(out / "p.ndjson");
-  const auto truth = read_lines(rec() / "ground_truth.ndjson");
+  const auto lines = read_ndjson(out / "p.ndjson");
+  const auto truth = read_ndjson(rec() / "ground_truth.ndjson");
   ASSERT_EQ(lines.size(), truth.size());
   for (std::size_t i = 0; i < lines.size(); ++i) {
     EXPECT_EQ(lines[i]["seq"], truth[i]["seq"]);
@@ -83,7 +78,7 @@ TEST_F(Replay, UnequalStreamsArePairedBySeqAndTheRestCounted) {
   test::write_file(copy / "rec/recording.json", json.dump());
   auto r = test::run_cli("replay --recording " + (copy / "rec").string() + " --out " + (copy / "p.ndjson").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto lines = read_lines(copy / "p.ndjson");
+  const auto lines = read_ndjson(copy / "p.ndjson");
   ASSERT_EQ(lines.size(), 48u);
   for (const auto& l : lines) {
     EXPECT_NE(l["seq"], 20);

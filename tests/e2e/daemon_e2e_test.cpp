@@ -18,18 +18,6 @@ using namespace std::chrono_literals;
 using test::DaemonProcess;
 using test::LineClient;
 
-std::uint16_t free_tcp_port() {
-  int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
-
 // Connects once the daemon listens (it may still be starting).
 template <class Connect>
 std::optional<LineClient> connect_when_up(Connect connect, DaemonProcess& daemon) {
@@ -66,7 +54,7 @@ class DaemonE2E : public ::testing::Test {
 TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
   const auto rec = make_recording(30);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
-  const auto port = free_tcp_port();
+  const auto port = test::free_port();
   const auto sock = dir / "p.sock";
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "127.0.0.1:" + std::to_string(port),
                         "--unix", sock.string()},
@@ -183,7 +171,7 @@ TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
 TEST_F(DaemonE2E, ANetworkListenerWithoutAuthenticationIsRefusedUnlessAllowed) {
   const auto rec = make_recording(10);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
-  const auto port = free_tcp_port();
+  const auto port = test::free_port();
   const std::string listen = "0.0.0.0:" + std::to_string(port);
   auto refused = test::run_command(std::string(SPINEWATCHD) + " --config '" + config.string() + "' --unix none --listen " + listen);
   EXPECT_EQ(refused.exit_code, 1) << refused.output;

@@ -2,8 +2,6 @@
 // The real spinewatchd on its embedded default (the bundled phantom
 // recording, looped at its recorded rate) with the HTTP live view on, for
 // the live view's end-to-end and browser tests.
-#include <sys/socket.h>
-
 #include <chrono>
 #include <string>
 #include <thread>
@@ -15,18 +13,6 @@
 #include "test_support.hpp"
 
 namespace spinewatch::test {
-
-inline std::uint16_t free_port() {
-  int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
 
 class HttpDaemon {
  public:

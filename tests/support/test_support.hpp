@@ -1,7 +1,10 @@
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "spinewatch/estimator/posture.hpp"
 
@@ -39,7 +42,13 @@ class TempDir {
 
 void write_file(const std::filesystem::path& path, const std::string& text);
 std::string read_file(const std::filesystem::path& path);
+// Every line of an NDJSON file, parsed (a line that is not JSON throws).
+std::vector<nlohmann::json> read_ndjson(const std::filesystem::path& path);
 std::filesystem::path source_path(const std::string& relative);  // in the source tree
+
+// A TCP port on 127.0.0.1 that was free a moment ago (the kernel's pick),
+// for a server the test starts next.
+std::uint16_t free_port();
 
 struct CommandResult {
   int exit_code = -1;

@@ -12,15 +12,14 @@
 
 #include "spinewatch/estimator/posture_json.hpp"
 
+#include "../common/json_number.hpp"
+
 namespace spinewatch {
 namespace {
 using nlohmann::json;
 using ojson = nlohmann::ordered_json;
 
-double round_to(double v, double quantum) {
-  const double inverse = std::round(1.0 / quantum);
-  return std::round(v * inverse) / inverse;
-}
+using detail::round_to;
 double seconds(double s) { return round_to(s, 1e-6); }
 
 ojson beyond_json(const BeyondLimit& b, double limit_deg, double tracked_s) {

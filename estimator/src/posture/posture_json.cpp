@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "../common/json_number.hpp"
+
 namespace spinewatch {
 namespace {
 using nlohmann::json;
@@ -13,12 +15,7 @@ using ojson = nlohmann::ordered_json;
 
 // Positions to 0.01 mm and quaternions to 1e-6 are far below what the
 // method resolves, and keep lines short.
-// Dividing by the exact integer 1/quantum (rather than multiplying by the
-// inexact quantum) gives the double nearest the decimal, which prints short.
-double round_to(double v, double quantum) {
-  const double inverse = std::round(1.0 / quantum);
-  return std::round(v * inverse) / inverse;
-}
+using detail::round_to;
 
 ojson vec3(const Eigen::Vector3d& v, double quantum = 0.01) {
   return ojson::array({round_to(v.x(), quantum), round_to(v.y(), quantum), round_to(v.z(), quantum)});
