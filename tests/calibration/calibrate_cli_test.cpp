@@ -185,5 +185,24 @@ TEST_F(CalibrateCli, ACalibrationForAnotherResolutionDoesNotReplay) {
       << r.output;
 }
 
+// --live reads the cameras (live_calibration_test drives the session with
+// fake devices); here, what the command line refuses before any camera is
+// opened, and a camera that cannot be opened.
+TEST(CalibrateLive, UsageErrorsAndAMissingCamera) {
+  auto both = test::run_cli("calibrate --live --views /tmp/x --board-centre-height 600");
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("--live takes the views and the placement from the cameras: give neither --views nor "
+                             "--placement"),
+            std::string::npos)
+      << both.output;
+  auto few = test::run_cli("calibrate --live --live-views 5 --board-centre-height 600");
+  EXPECT_EQ(few.exit_code, 2) << few.output;
+  EXPECT_NE(few.output.find("--live-views 5 is fewer than --min-views 8"), std::string::npos) << few.output;
+  auto missing = test::run_cli(
+      "calibrate --live --frontal /nonexistent/video9 --lateral /nonexistent/video8 --board-centre-height 600");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent/video9"), std::string::npos) << missing.output;
+}
+
 }  // namespace
 }  // namespace spinewatch
