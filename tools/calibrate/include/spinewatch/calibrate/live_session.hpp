@@ -17,7 +17,7 @@
 namespace spinewatch {
 
 struct LiveSessionOptions {
-  int views = 20;             // views kept per camera (at least CalibrationLimits::min_views)
+  int views = 40;             // views kept per camera (at least CalibrationLimits::min_views)
   int placement_frames = 8;   // still frames of the placement board per camera
   ViewCollectorOptions collector;
   std::chrono::milliseconds timeout{std::chrono::minutes(10)};  // per phase
