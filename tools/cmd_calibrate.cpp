@@ -2,8 +2,12 @@
 // of a calibration board — held at poses in front of each camera (the
 // intrinsics views) and placed where the subject will stand (the world
 // frame) — with a report, refused when it would not hold
-// (docs/calibration.md).
+// (docs/calibration.md). With --live, the views and the placement come
+// straight from both cameras instead of recordings.
+#include <unistd.h>
+
 #include <cstdio>
+#include <iostream>
 #include <memory>
 
 #include <fmt/format.h>
@@ -11,7 +15,11 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "spinewatch/calibrate/live_session.hpp"
 #include "spinewatch/capture/recording.hpp"
+#include "spinewatch/capture/v4l2_camera.hpp"
+#include "spinewatch/daemon/camera_pair_source.hpp"
+#include "spinewatch/daemon/config.hpp"
 #include "spinewatch/estimator/calibration/station_calibration.hpp"
 
 namespace spinewatch::cli {
@@ -50,6 +58,27 @@ Result<cv::Size> parse_squares(const std::string& text) {
   return cv::Size(x, y);
 }
 
+// Both cameras as `record` opens them: [cameras] of the config (built-in
+// defaults without one), the devices the command line names.
+Result<std::array<std::unique_ptr<V4l2Camera>, 2>> open_cameras(const std::string& config_path,
+                                                                  const std::string devices[2]) {
+  Config config;
+  if (!config_path.empty()) {
+    auto loaded = load_config(config_path);
+    if (!loaded) return loaded.error();
+    config = std::move(loaded.value());
+  }
+  const CameraPairOptions pair = camera_pair_options(config);
+  V4l2CameraOptions options[2] = {pair.frontal, pair.lateral};
+  std::array<std::unique_ptr<V4l2Camera>, 2> cameras;
+  for (int v = 0; v < 2; ++v) {
+    if (!devices[v].empty()) options[v].path = devices[v];
+    cameras[static_cast<std::size_t>(v)] = std::make_unique<V4l2Camera>(options[v]);
+    if (auto started = cameras[static_cast<std::size_t>(v)]->start(); !started) return started.error();
+  }
+  return cameras;
+}
+
 }  // namespace
 
 void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
@@ -63,6 +92,9 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
     CalibrationLimits limits;
     std::string write_board;
     double dpi = 100;
+    bool live = false;
+    std::string devices[2], config;
+    LiveSessionOptions session;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("calibrate", "Calibrate the station's two cameras from recordings of a board");
@@ -102,10 +134,37 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
                   "Refuse when the optical axes are further than this from 90° apart (degrees)")
       ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
+  cmd->add_flag("--live", opts->live,
+               "Take the views and the placement from both cameras as they stream, instead of --views and "
+               "--placement recordings");
+  cmd->add_option("--frontal", opts->devices[0], "--live: frontal camera device (default: cameras.frontal)");
+  cmd->add_option("--lateral", opts->devices[1], "--live: lateral camera device (default: cameras.lateral)");
+  cmd->add_option("--config", opts->config, "--live: TOML configuration for the cameras (default: built-in defaults)");
+  cmd->add_option("--live-views", opts->session.views, "--live: views to keep per camera")
+      ->check(CLI::Range(3, 200))
+      ->capture_default_str();
+  cmd->add_option("--placement-frames", opts->session.placement_frames,
+                  "--live: still frames of the placement board per camera")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   cmd->add_option("--write-board", opts->write_board, "Write the board as a PNG to print, and exit");
   cmd->add_option("--dpi", opts->dpi, "Resolution of --write-board")->check(CLI::Range(20.0, 1200.0))->capture_default_str();
 
   cmd->callback([opts, &exit_code] {
+    // Calibrates, prints the report, writes the file when accepted.
+    auto finish = [&](const CalibrationBoard& board, const std::array<CameraFrames, 2>& frames, cv::Size size,
+                      const PlacementSpec& placement) {
+      const StationCalibration result = calibrate_station(board, frames, size, placement, opts->limits);
+      fmt::print("{}", format_report(result.report));
+      std::fflush(stdout);
+      if (!result.accepted()) {
+        return exit_code.fail(Error{fmt::format("calibrate: refused, nothing written ({} problem{}; see above)",
+                                                result.report.problems.size(),
+                                                result.report.problems.size() == 1 ? "" : "s")});
+      }
+      if (auto s = save_calibration(opts->out, result.rig); !s) return exit_code.fail(s.error());
+      fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
+    };
     auto usage = [&exit_code](const std::string& message) {
       spdlog::error("calibrate: {}", message);
       exit_code.value = 2;
@@ -138,9 +197,15 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       return;
     }
 
-    if (opts->placement.empty()) return usage("give --placement DIR (the board where the subject will stand)");
+    if (opts->live && (!opts->views.empty() || !opts->placement.empty()))
+      return usage("--live takes the views and the placement from the cameras: give neither --views nor --placement");
+    if (opts->live && opts->session.views < opts->limits.min_views)
+      return usage(fmt::format("--live-views {} is fewer than --min-views {}", opts->session.views,
+                               opts->limits.min_views));
+    if (!opts->live && opts->placement.empty())
+      return usage("give --placement DIR (the board where the subject will stand), or --live");
     const bool need_views = opts->intrinsics[0].empty() || opts->intrinsics[1].empty();
-    if (need_views && opts->views.empty())
+    if (!opts->live && need_views && opts->views.empty())
       return usage("give --views DIR (the board held at poses), or both --frontal-intrinsics and --lateral-intrinsics");
     const PlacementSpec placement{opts->place == "floor" ? Placement::Floor : Placement::Upright,
                                   opts->centre_height_mm};
@@ -154,9 +219,41 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
         if (!given) return exit_code.fail(given.error());
         frames[static_cast<std::size_t>(i)].intrinsics = *given;
       }
+    cv::Size size;
+    if (opts->live) {
+      auto cameras = open_cameras(opts->config, opts->devices);
+      if (!cameras) return exit_code.fail(cameras.error());
+      LiveSessionOptions session = opts->session;
+      session.collector.min_corners = opts->limits.min_corners;
+      for (int i = 0; i < 2; ++i) session.need_views[static_cast<std::size_t>(i)] = opts->intrinsics[i].empty();
+      LiveSessionHooks hooks;
+      hooks.progress = [](const std::string& line) {
+        fmt::print("{}\n", line);
+        std::fflush(stdout);
+      };
+      hooks.before_placement = [] {
+        fmt::print("views done. Now place the board where the subject will stand, in view of both cameras, and "
+                   "leave it still{}\n",
+                   isatty(STDIN_FILENO) ? "; press Enter when it is in place" : "");
+        std::fflush(stdout);
+        if (isatty(STDIN_FILENO)) {
+          std::string line;
+          std::getline(std::cin, line);
+        }
+      };
+      auto live = collect_live({(*cameras)[0].get(), (*cameras)[1].get()}, *board, session, hooks);
+      for (auto& c : *cameras) c->stop();
+      if (!live) return exit_code.fail(live.error());
+      size = live->size;
+      for (std::size_t i = 0; i < 2; ++i) {
+        frames[i].views = std::move(live->frames[i].views);
+        frames[i].placement = std::move(live->frames[i].placement);
+      }
+      return finish(*board, frames, size, placement);
+    }
     auto placed = read_recording(opts->placement);
     if (!placed) return exit_code.fail(placed.error());
-    cv::Size size = placed->size;
+    size = placed->size;
     for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].placement = std::move(placed->grey[static_cast<std::size_t>(i)]);
     if (!opts->views.empty()) {
       auto views = read_recording(opts->views);
@@ -169,16 +266,7 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].views = std::move(views->grey[static_cast<std::size_t>(i)]);
     }
 
-    const StationCalibration result = calibrate_station(*board, frames, size, placement, opts->limits);
-    fmt::print("{}", format_report(result.report));
-    std::fflush(stdout);
-    if (!result.accepted()) {
-      return exit_code.fail(Error{fmt::format("calibrate: refused, nothing written ({} problem{}; see above)",
-                                              result.report.problems.size(),
-                                              result.report.problems.size() == 1 ? "" : "s")});
-    }
-    if (auto s = save_calibration(opts->out, result.rig); !s) return exit_code.fail(s.error());
-    fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
+    finish(*board, frames, size, placement);
   });
 }
 

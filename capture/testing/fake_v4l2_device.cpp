@@ -92,7 +92,9 @@ int FakeV4l2Device::dequeue_locked(void* arg) {
   queue_.erase(queue_.begin());
   Buffer& buffer = *buffers_[index];
   buffer.queued = false;
-  if (script_.fill) {
+  if (script_.content) {
+    script_.content(seq, buffer.bytes.data(), bytesperline_);
+  } else if (script_.fill) {
     const std::uint32_t row_bytes = width_ * bytes_per_pixel(format_);
     for (std::uint32_t y = 0; y < height_; ++y) {
       std::uint8_t* row = buffer.bytes.data() + std::size_t{y} * bytesperline_;

@@ -116,7 +116,12 @@ TEST_F(StationCalibrationTest, RecoversTheCamerasThatRenderedTheBoard) {
   // Measured (docs/calibration.md, "How it is tested"): frontal 0.17 px,
   // 1.7 mm, 0.17°; lateral 0.25 px, 4.4 mm, 0.35° — the lateral camera's
   // rotation misses the issue's 0.2° (its principal point is 1.4 px off in
-  // y), so the rotation is held to 0.4° here, the rest to the issue's bounds.
+  // y, and the placement pose turns the camera to make up for it). Not the
+  // lateral camera's own problem: over sessions rendered with seeds 1–8
+  // (calibration_sweep) either camera's rotation is 0.07–0.47° off, the
+  // frontal's the worse on seeds 2, 3 and 7; it is the principal point's
+  // noise at 320×240. So the rotation is held to 0.4° here, the rest to
+  // the issue's bounds.
   expect_matches_truth(*rig_, result, {kIssue.pixels, kIssue.centre_mm, 0.4});
   EXPECT_NEAR(result.report.axis_angle_deg,
               std::acos(std::clamp((rig_->frontal.R.row(2).dot(rig_->lateral.R.row(2))), -1.0, 1.0)) * 180 /

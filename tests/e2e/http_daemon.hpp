@@ -29,6 +29,16 @@ class HttpDaemon {
                                              "127.0.0.1:" + std::to_string(http_port_)},
                     dir / "daemon.log");
   }
+  // The daemon as scripts/demo (`make demo`) starts it: config/demo.toml,
+  // the posture stream on TCP, the live view on loopback (no Unix socket
+  // here: the demo's is in its build directory).
+  struct AsTheDemo {};
+  HttpDaemon(const TempDir& dir, AsTheDemo) : stream_port_(free_port()), http_port_(free_port()) {
+    daemon_.emplace(std::vector<std::string>{SPINEWATCHD, "--config", SPINEWATCH_SOURCE_DIR "/config/demo.toml",
+                                             "--listen", "127.0.0.1:" + std::to_string(stream_port_), "--unix", "none",
+                                             "--http", "127.0.0.1:" + std::to_string(http_port_)},
+                    dir / "daemon.log");
+  }
   ~HttpDaemon() {
     if (daemon_ && daemon_->running()) {
       daemon_->signal(SIGTERM);

@@ -1,5 +1,6 @@
 // The live view page in a real browser: headless Chromium (Debian's
-// chromium) loads / from the real daemon on its embedded default, twice a
+// chromium) loads / from the real daemon started as `make demo` starts it
+// (config/demo.toml: the embedded default, the live view on loopback), twice a
 // second apart; the page's spine side view (an SVG polyline the page
 // draws from /state) must show a tracked spine both times, and a different
 // one as the phantom bends, and the page's MJPEG <img> must have received
@@ -39,7 +40,9 @@ std::string attribute(const std::string& dom, const std::string& id, const std::
 TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
   if (!std::filesystem::exists(kChromium)) GTEST_SKIP() << kChromium << " is not installed (scripts/install-deps installs chromium)";
   test::TempDir dir;
-  test::HttpDaemon daemon(dir, "fps = 10\n");
+  // Started as `make demo` starts it (config/demo.toml), so that what is
+  // checked here is what the demo shows.
+  test::HttpDaemon daemon(dir, test::HttpDaemon::AsTheDemo{});
   ASSERT_TRUE(daemon.wait_for_state("tracking", test::scaled(20s))) << daemon.process().log();
   const std::string url = "http://127.0.0.1:" + std::to_string(daemon.http_port()) + "/";
   const auto frames_written = [&] {

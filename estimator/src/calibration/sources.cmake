@@ -3,4 +3,5 @@
 list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/board.cpp
   ${CMAKE_CURRENT_LIST_DIR}/camera_views.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/station_calibration.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/station_calibration.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/view_collector.cpp)

@@ -6,6 +6,7 @@
 // misbehave on cue: error frames, dropped sequence numbers, a stall, ENODEV
 // or POLLERR mid-stream, a device that disappears and comes back.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -39,6 +40,10 @@ struct FakeV4l2Script {
   std::uint64_t pollerr_after = 0;  // POLLERR once; the device stays
   int reopen_failures = 2;          // opens that fail (ENOENT) after an unplug
   bool fill = true;                 // write the pattern into each frame (off: benchmarks)
+  // When set, writes each frame instead of the pattern: (driver sequence,
+  // the buffer, its bytesperline). Called with the device's lock held, on
+  // the thread that dequeues; it must not call back into the device.
+  std::function<void(std::uint64_t seq, std::uint8_t* bytes, std::uint32_t bytesperline)> content;
 };
 
 class FakeV4l2Device final : public V4l2Device {
