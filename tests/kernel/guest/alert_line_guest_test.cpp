@@ -45,7 +45,8 @@ Posture bent(std::uint64_t seq, double inclination_deg) {
   p.seq = seq;
   p.t_ns = std::int64_t(seq) * 33'333'333;
   p.state = TrackingState::Tracking;
-  p.ergonomics = Ergonomics{.trunk_inclination_deg = inclination_deg};
+  p.ergonomics = Ergonomics{};
+  p.ergonomics->trunk_inclination_deg = inclination_deg;
   return p;
 }
 
@@ -58,7 +59,12 @@ std::unique_ptr<AlertOutput> open_output(unsigned line, bool active_low, AlertOu
 
 TEST(Gpio, AlertLineFollowsRaisedAndClearedAlert) {
   SW_REQUIRE_ENV("SW_GPIO_SKIP", "SW_GPIO_CHIP", "SW_GPIO_SYSFS");
-  AlertMonitor monitor({AlertRule{.name = "bent", .inclination_above_deg = 25.0, .hold_s = 0.2, .hysteresis_deg = 3.0}});
+  AlertRule rule;
+  rule.name = "bent";
+  rule.inclination_above_deg = 25.0;
+  rule.hold_s = 0.2;
+  rule.hysteresis_deg = 3.0;
+  AlertMonitor monitor({rule});
   auto output = open_output(kAlertLine, false, {.mode = AlertSignalMode::Steady});
   ASSERT_TRUE(output);
   EXPECT_EQ(sim_line_value(kAlertLine), 0) << "requested inactive";
@@ -88,7 +94,8 @@ TEST(Gpio, AlertLineActiveLowPulses) {
   auto output = open_output(kActiveLowLine, true, {.mode = AlertSignalMode::Pulse, .pulse = 150ms});
   ASSERT_TRUE(output);
   EXPECT_EQ(sim_line_value(kActiveLowLine), 1) << "active low: inactive is high";
-  AlertEvent raised{.rule = "bent", .change = AlertChange::Raised};
+  AlertEvent raised;
+  raised.rule = "bent";
   output->on_event(raised);
   // On (low) and off (high) in turn while raised.
   int changes = 0, last = sim_line_value(kActiveLowLine);
@@ -100,7 +107,8 @@ TEST(Gpio, AlertLineActiveLowPulses) {
     std::this_thread::sleep_for(5ms);
   }
   EXPECT_GE(changes, 4) << "pulsing";
-  AlertEvent cleared{.rule = "bent", .change = AlertChange::Cleared};
+  AlertEvent cleared = raised;
+  cleared.change = AlertChange::Cleared;
   output->on_event(cleared);
   EXPECT_TRUE(line_becomes(kActiveLowLine, 1)) << "cleared: inactive, high";
   output->set_silent(true);
