@@ -1,6 +1,7 @@
 #include "spinewatch/export/opensim_files.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -26,6 +27,9 @@ std::vector<JointAngles> angles_root_to_tip(const SpinePose& pose) {
   for (std::size_t i = kJointCount; i-- > 0;) out.push_back(joints[i]);
   return out;
 }
+
+// A value that rounds to zero at 4 decimals is written "0.0000", not "-0.0000".
+double unsigned_zero(double deg) { return std::abs(deg) < 0.5e-4 ? 0.0 : deg; }
 
 }  // namespace
 
@@ -54,7 +58,8 @@ std::string mot_text(const std::vector<PoseRow>& rows, std::string_view name) {
   for (const PoseRow& r : rows) {
     out += fmt::format("{:.6f}", double(r.t_ns) / 1e9);
     for (const JointAngles& a : angles_root_to_tip(r.pose))
-      out += fmt::format("\t{:.4f}\t{:.4f}\t{:.4f}", a.flexion, a.lateral, a.twist);
+      out += fmt::format("\t{:.4f}\t{:.4f}\t{:.4f}", unsigned_zero(a.flexion), unsigned_zero(a.lateral),
+                         unsigned_zero(a.twist));
     out += "\n";
   }
   return out;
