@@ -205,5 +205,66 @@ TEST_F(DaemonStorage, ConfiguredAlertsReachTheStreamAndTheDatabase) {
   EXPECT_NE(daemon.log().find("alerts: 1 rules from " + rules.string()), std::string::npos);
 }
 
+// Silent mode (docs/exposure.md): alerts recorded with "silent": true, and
+// back to plain lines after a SIGHUP turns it off; an alert line that cannot
+// be opened is said in the hello line, and the daemon runs on.
+TEST_F(DaemonStorage, SilentAlertsAreRecordedAnUnopenableLineIsSaidAndSighupUnsilences) {
+  const auto rules = dir / "alerts.toml";
+  test::write_file(rules, "[[rule]]\nname = \"bent\"\ninclination_above_deg = 25.0\nhold_s = 0.2\nhysteresis_deg = 3.0\n");
+  const auto cfg = config("");
+  const std::string base = test::read_file(cfg) + "[alerts]\nrules = \"" + rules.string() +
+                           "\"\ngpio_chip = \"/nonexistent/gpiochip9\"\ngpio_line = 3\n";
+  test::write_file(cfg, base + "silent = true\n");
+  DaemonProcess daemon({SPINEWATCHD, "--config", cfg.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+                       dir / "daemon.log");
+  auto client = connect(daemon);
+  ASSERT_TRUE(client) << daemon.log();
+  auto hello = client->read_line(test::scaled(6s));
+  ASSERT_TRUE(hello) << daemon.log();
+  const auto h = nlohmann::json::parse(*hello);
+  ASSERT_EQ(h.at("class"), "hello");
+  bool said = false;
+  for (const auto& w : h.value("warnings", nlohmann::json::array()))
+    said = said || w.get<std::string>().find("alerts not signalled: GPIO /nonexistent/gpiochip9 line 3") == 0;
+  EXPECT_TRUE(said) << *hello;
+  std::vector<std::string> lines{*hello};
+  std::vector<nlohmann::json> silent, loud;
+  bool reloaded = false;
+  while (loud.size() < 2) {
+    auto line = client->read_line(test::scaled(8s));
+    ASSERT_TRUE(line) << daemon.log();
+    lines.push_back(*line);
+    auto j = nlohmann::json::parse(*line);
+    if (j.at("class") != "alert") continue;
+    if (!reloaded) {
+      EXPECT_EQ(j.value("silent", false), true) << *line;
+      silent.push_back(j);
+      if (silent.size() == 2) {
+        test::write_file(cfg, base + "silent = false\n");
+        daemon.signal(SIGHUP);
+        reloaded = true;
+      }
+    } else if (!j.contains("silent")) {
+      loud.push_back(j);  // after the reload took effect (a line or two may precede it)
+    }
+  }
+  daemon.signal(SIGTERM);
+  ASSERT_EQ(daemon.wait_exit(test::scaled(5s)), 0) << daemon.log();
+  std::string text;
+  for (const auto& l : lines) text += l + "\n";
+  test::write_file(dir / "stream.ndjson", text);
+  EXPECT_EQ(test::validate_ndjson(dir / "stream.ndjson"), "");
+  Query q(db());
+  const auto stored = q.column("SELECT line FROM alerts ORDER BY rowid");
+  ASSERT_GE(stored.size(), 2u);
+  EXPECT_EQ(nlohmann::json::parse(stored[0]).value("silent", false), true);
+  const auto events = q.column("SELECT message FROM events WHERE level = 'error'");
+  ASSERT_FALSE(events.empty());
+  EXPECT_NE(events[0].find("alerts not signalled"), std::string::npos);
+  const std::string log = daemon.log();
+  EXPECT_NE(log.find("reload: applied alerts.silent"), std::string::npos) << log;
+  EXPECT_NE(log.find("alert line not open: alerts not signalled"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace spinewatch

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/capture/background_images.hpp"
+#include "spinewatch/daemon/alert_output.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/client_command.hpp"
@@ -31,6 +32,7 @@
 #include "spinewatch/daemon/summary_stream.hpp"
 #include "spinewatch/estimator/load/alert_json.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
+#include "spinewatch/sync/gpiod_trigger_line.hpp"
 #include "spinewatch/sync/trigger_controller.hpp"
 
 namespace spinewatch {
@@ -168,6 +170,20 @@ Result<std::unique_ptr<sync::TriggerController>> start_trigger_controller(const 
   return controller;
 }
 
+// [alerts] gpio_chip: the buzzer's or lamp's line. A line that cannot be
+// opened is an error value here; the caller logs it once and runs on.
+Result<std::unique_ptr<AlertOutput>> open_alert_output(const Config::Alerts& a) {
+  auto mode = parse_alert_signal_mode(a.gpio_mode);
+  if (!mode) return Error{"alerts.gpio_mode: " + mode.error().message};
+  auto line = sync::open_gpiod_output(a.gpio_chip, static_cast<unsigned>(a.gpio_line), "spinewatch-alert",
+                                      a.gpio_active_low);
+  if (!line) return line.error();
+  return std::make_unique<AlertOutput>(
+      std::move(line).value(),
+      AlertOutputOptions{.mode = *mode, .pulse = std::chrono::milliseconds(a.pulse_ms), .silent = a.silent},
+      fmt::format("GPIO {} line {}", a.gpio_chip, a.gpio_line));
+}
+
 }  // namespace
 
 struct Daemon::Impl {
@@ -187,6 +203,9 @@ struct Daemon::Impl {
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
   std::unique_ptr<AlertMonitor> alerts;      // estimator thread only
+  std::unique_ptr<AlertOutput> alert_output;  // [alerts] gpio_chip, when its line could be opened
+  std::uint64_t alert_output_open_failures = 0;  // 0 or 1: the line could not be opened at start
+  std::atomic<bool> alerts_silent{false};     // [alerts] silent; SIGHUP may change it
   SummaryLabels labels;                      // station and UTC for summary and alert lines
   // The live view (with --http): its render thread feeds the HTTP server,
   // which runs on the publisher's I/O thread; stopped in that order, and
@@ -234,6 +253,14 @@ struct Daemon::Impl {
                                    rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
                                    to_string(static_cast<TrackingState>(last_state.load())));
     if (!config.trigger.controller.empty()) text += "; trigger " + trigger_status;
+    if (alert_output) {
+      const AlertOutputStats a = alert_output->stats();
+      text += fmt::format("; alert line {}{}, {} signalled, {} write errors", alert_output->name(),
+                          alert_output->silent() ? " (silent)" : a.signalling ? " signalling" : "", a.signalled,
+                          a.write_errors);
+    } else if (alert_output_open_failures > 0) {
+      text += "; alert line not open: alerts not signalled";
+    }
     if (store) {
       const StoreStats st = store->stats();
       text += fmt::format("; storage {} written, {} dropped, {} failed", st.written, st.dropped, st.failed);
@@ -354,8 +381,12 @@ struct Daemon::Impl {
       store->add_posture(posture.seq, posture.t_ns, line);
     publisher->publish(std::move(line));
     publish_summaries(summaries->add(posture));
+    const bool silent = alerts_silent.load(std::memory_order_relaxed);
     for (const AlertEvent& e : alerts->update(posture)) {
-      std::string alert = encode_alert(e, labels);
+      // The output keeps track of raised rules even when silent, so that
+      // leaving silent mode signals what is still raised.
+      if (alert_output) alert_output->on_event(e);
+      std::string alert = encode_alert(e, labels, silent);
       if (store) store->add_alert(e.t_ns, alert);
       publisher->publish(std::move(alert));
     }
@@ -430,6 +461,12 @@ struct Daemon::Impl {
       publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name, hello_warnings));
     config.station = fresh->station;
     config.log = fresh->log;
+    if (fresh->alerts.silent != config.alerts.silent) {
+      config.alerts.silent = fresh->alerts.silent;
+      alerts_silent.store(config.alerts.silent, std::memory_order_relaxed);
+      if (alert_output) alert_output->set_silent(config.alerts.silent);
+      spdlog::info("alerts: silent mode {}", config.alerts.silent ? "on: recorded, not signalled" : "off");
+    }
     if (known_worker(fresh->subject) != known_worker(config.subject)) {
       config.subject.stature_mm = fresh->subject.stature_mm;
       config.subject.mass_kg = fresh->subject.mass_kg;
@@ -511,6 +548,24 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
         (*http)->endpoint.host, (*http)->endpoint.port));
     spdlog::warn("{}", d.hello_warnings.back());
   }
+  d.alerts_silent = d.config.alerts.silent;
+  if (!d.config.alerts.gpio_chip.empty() && !d.config.alerts.enabled) {
+    spdlog::info("alerts.enabled = false: the alert line {} line {} is not used", d.config.alerts.gpio_chip,
+                 d.config.alerts.gpio_line);
+  } else if (!d.config.alerts.gpio_chip.empty()) {
+    auto output = open_alert_output(d.config.alerts);
+    if (output) {
+      d.alert_output = std::move(output).value();
+      spdlog::info("alerts: signalled on {} ({}, {}{})", d.alert_output->name(), d.config.alerts.gpio_mode,
+                   d.config.alerts.gpio_active_low ? "active low" : "active high",
+                   d.config.alerts.silent ? "; silent for now" : "");
+    } else {
+      // Logged once and said to every client; the station records alerts on.
+      d.alert_output_open_failures = 1;
+      d.hello_warnings.push_back(fmt::format("alerts not signalled: {} (alerts.gpio_chip)", output.error().message));
+      spdlog::error("{}", d.hello_warnings.back());
+    }
+  }
   auto publisher =
       Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name, d.hello_warnings));
   if (!publisher) return publisher.error();
@@ -541,6 +596,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   if (!d.config.storage.path.empty()) {
     d.store = std::make_unique<Store>(store_options(d.config));
     d.store->add_event("info", fmt::format("started: source {}", d.source_name));
+    if (d.alert_output_open_failures > 0) d.store->add_event("error", d.hello_warnings.back());
   }
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
@@ -605,6 +661,7 @@ int Daemon::run() {
   d.notifier.stopping();
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
+  if (d.alert_output) d.alert_output->stop();  // the buzzer or lamp off before anything else
   d.publish_summaries(d.summaries->finish());  // the last partial interval
   if (d.http) d.http->stop();
   if (d.live) d.live->stop();

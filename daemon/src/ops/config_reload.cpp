@@ -42,7 +42,9 @@ const std::vector<Field>& fields() {
       SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
       SW_FIELD(publish, max_clients),
       SW_FIELD(exposure, interval_s),
-      SW_FIELD(alerts, enabled), SW_FIELD(alerts, rules),
+      SW_FIELD(alerts, enabled), SW_FIELD(alerts, rules), SW_FIELD(alerts, silent), SW_FIELD(alerts, gpio_chip),
+      SW_FIELD(alerts, gpio_line), SW_FIELD(alerts, gpio_active_low), SW_FIELD(alerts, gpio_mode),
+      SW_FIELD(alerts, pulse_ms),
       SW_FIELD(storage, path), SW_FIELD(storage, posture_every), SW_FIELD(storage, retention_days),
       SW_FIELD(storage, max_size_mb),
       SW_FIELD(http, listen), SW_FIELD(http, allow_unauthenticated), SW_FIELD(http, fps), SW_FIELD(http, camera_pixels),
@@ -65,7 +67,8 @@ std::vector<std::string> changed_keys(const Config& before, const Config& after)
 
 bool reloadable_key(const std::string& key) {
   return key == "station.name" || key == "log.level" || key == "log.status_interval_s" || key == "subject.stature_mm" ||
-         key == "subject.mass_kg" || key == "subject.c7_height_mm" || key == "subject.iliac_crest_height_mm";
+         key == "subject.mass_kg" || key == "subject.c7_height_mm" || key == "subject.iliac_crest_height_mm" ||
+         key == "alerts.silent";
 }
 
 std::vector<std::string> compared_keys() {

@@ -252,4 +252,21 @@ Result<std::vector<std::string>> read_stored_summary_lines(const std::filesystem
   return lines;
 }
 
+Result<std::vector<StoredLine>> read_stored_posture_lines(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return Error{fmt::format("{}: no such database", path.string())};
+  auto db = sqlite::open(path, SQLITE_OPEN_READONLY);
+  if (!db) return Error{fmt::format("{}: {}", path.string(), db.error().message)};
+  auto q = sqlite::prepare(db->get(), "SELECT stored_ns, line FROM postures ORDER BY rowid");
+  if (!q) return Error{fmt::format("{}: {}", path.string(), q.error().message)};
+  std::vector<StoredLine> lines;
+  for (;;) {
+    auto row = q->step();
+    if (!row) return Error{fmt::format("{}: {}", path.string(), row.error().message)};
+    if (!*row) break;
+    lines.push_back({sqlite3_column_int64(q->get(), 0), reinterpret_cast<const char*>(sqlite3_column_text(q->get(), 1))});
+  }
+  return lines;
+}
+
 }  // namespace spinewatch

@@ -149,6 +149,12 @@ const std::vector<Key>& keys() {
 
       bool_key("alerts.enabled", [](Config& c) -> bool& { return c.alerts.enabled; }),
       string_key("alerts.rules", [](Config& c) -> std::string& { return c.alerts.rules; }),
+      bool_key("alerts.silent", [](Config& c) -> bool& { return c.alerts.silent; }),
+      string_key("alerts.gpio_chip", [](Config& c) -> std::string& { return c.alerts.gpio_chip; }),
+      int_key("alerts.gpio_line", [](Config& c) -> int& { return c.alerts.gpio_line; }, {0, 1023}),
+      bool_key("alerts.gpio_active_low", [](Config& c) -> bool& { return c.alerts.gpio_active_low; }),
+      string_key("alerts.gpio_mode", [](Config& c) -> std::string& { return c.alerts.gpio_mode; }, {"steady", "pulse"}),
+      int_key("alerts.pulse_ms", [](Config& c) -> int& { return c.alerts.pulse_ms; }, {20, 60000}),
 
       string_key("storage.path", [](Config& c) -> std::string& { return c.storage.path; }),
       int_key("storage.posture_every", [](Config& c) -> int& { return c.storage.posture_every; }, {1, 1000000}),

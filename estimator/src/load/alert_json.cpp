@@ -8,7 +8,7 @@
 
 namespace spinewatch {
 
-std::string encode_alert(const AlertEvent& e, const SummaryLabels& labels) {
+std::string encode_alert(const AlertEvent& e, const SummaryLabels& labels, bool silent) {
   auto round2 = [](double v) { return std::round(v * 100) / 100; };
   nlohmann::ordered_json j = {{"class", "alert"},
                               {"v", kPostureSchemaVersion},
@@ -26,6 +26,7 @@ std::string encode_alert(const AlertEvent& e, const SummaryLabels& labels) {
   if (e.lateral_deg) values["lateral_bend_deg"] = round2(*e.lateral_deg);
   if (e.compression_n) values["l5_compression_n"] = std::round(*e.compression_n * 10) / 10;
   j["values"] = values;
+  if (silent) j["silent"] = true;
   return j.dump();
 }
 

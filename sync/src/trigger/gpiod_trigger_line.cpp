@@ -1,5 +1,6 @@
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
 
+#include <bitset>
 #include <exception>
 #include <optional>
 
@@ -100,11 +101,14 @@ Result<std::pair<gpiod::chip, gpiod::line>> find_line(const std::string& chip_na
 }  // namespace
 
 Result<std::unique_ptr<TriggerOutputLine>> open_gpiod_output(const std::string& chip, unsigned line,
-                                                             const std::string& consumer) {
+                                                             const std::string& consumer, bool active_low) {
   auto found = find_line(chip, line);
   if (!found) return found.error();
   try {
-    found->second.request({consumer, gpiod::line_request::DIRECTION_OUTPUT, 0}, 0);
+    // With FLAG_ACTIVE_LOW the kernel inverts the values: 0 stays "inactive"
+    // for the request's default and the destructor's release alike.
+    const std::bitset<32> flags = active_low ? gpiod::line_request::FLAG_ACTIVE_LOW : std::bitset<32>{};
+    found->second.request({consumer, gpiod::line_request::DIRECTION_OUTPUT, flags}, 0);
   } catch (const std::exception& e) {
     return gpio_error(chip, line, e);
   }

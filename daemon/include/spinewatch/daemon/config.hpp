@@ -112,6 +112,12 @@ struct Config {
   struct Alerts {
     bool enabled = true;    // alert rules run and their lines are published (docs/exposure.md, "Alerts")
     std::string rules = "";  // rules file ([[rule]] tables); "" = the built-in config/alerts.toml
+    bool silent = false;     // record alerts (lines, database), never signal them (no GPIO)
+    std::string gpio_chip = "";  // the buzzer's or lamp's GPIO chip; "" = no output line
+    int gpio_line = 0;           // its line offset on the chip
+    bool gpio_active_low = false;  // active = the pin driven low
+    std::string gpio_mode = "steady";  // "steady" | "pulse" (AlertSignalMode)
+    int pulse_ms = 500;                // pulse: on this long, off this long
     bool operator==(const Alerts&) const = default;
   } alerts;
 

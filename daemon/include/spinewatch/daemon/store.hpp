@@ -67,6 +67,14 @@ class Store {
 // report --db). Opened read-only; errors name the file.
 Result<std::vector<std::string>> read_stored_summary_lines(const std::filesystem::path& path);
 
+// The stored posture lines (every storage.posture_every-th), oldest first,
+// with the wall-clock time each was stored (spinewatch export --db).
+struct StoredLine {
+  std::int64_t stored_ns = 0;  // CLOCK_REALTIME when the writer took it
+  std::string line;
+};
+Result<std::vector<StoredLine>> read_stored_posture_lines(const std::filesystem::path& path);
+
 // CLOCK_REALTIME in nanoseconds.
 std::int64_t realtime_ns();
 

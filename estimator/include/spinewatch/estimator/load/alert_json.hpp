@@ -9,6 +9,8 @@
 namespace spinewatch {
 
 // labels as for summaries: station, worker, utc_offset_ns (gives "utc").
-std::string encode_alert(const AlertEvent& event, const SummaryLabels& labels = {});
+// silent: the station records the alert without signalling it ([alerts]
+// silent); the line then says "silent": true.
+std::string encode_alert(const AlertEvent& event, const SummaryLabels& labels = {}, bool silent = false);
 
 }  // namespace spinewatch
