@@ -19,6 +19,7 @@
 #include "spinewatch/daemon/http_server.hpp"
 #include "spinewatch/daemon/latency_histogram.hpp"
 #include "spinewatch/daemon/live_view.hpp"
+#include "spinewatch/daemon/mqtt_publisher.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
@@ -187,6 +188,7 @@ struct Daemon::Impl {
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
   std::unique_ptr<AlertMonitor> alerts;      // estimator thread only
+  std::unique_ptr<MqttPublisher> mqtt;       // [mqtt] url set (docs/fleet.md)
   SummaryLabels labels;                      // station and UTC for summary and alert lines
   // The live view (with --http): its render thread feeds the HTTP server,
   // which runs on the publisher's I/O thread; stopped in that order, and
@@ -225,7 +227,17 @@ struct Daemon::Impl {
   StreamStats stream_stats() const {
     const auto p = pipeline->stats();
     const auto c = publisher->stats();
-    return {p.pairs, p.pairs_dropped, p.source.frames_lost, c.clients, c.clients_dropped};
+    StreamStats s{p.pairs, p.pairs_dropped, p.source.frames_lost, c.clients, c.clients_dropped};
+    if (mqtt) {
+      const MqttStats q = mqtt->stats();
+      s.mqtt = true;
+      s.mqtt_connected = q.connected ? 1 : 0;
+      s.mqtt_outbox = q.outbox_messages;
+      s.mqtt_dropped = q.dropped_disconnected + q.dropped_queue_full + q.dropped_outbox_full + q.dropped_handoff_full +
+                       q.dropped_outbox_error;
+      s.mqtt_reconnects = q.reconnects;
+    }
+    return s;
   }
 
   std::string status_text(double rate) const {
@@ -234,6 +246,14 @@ struct Daemon::Impl {
                                    rate, s.pairs, s.pairs_dropped, s.frames_lost, s.clients, s.clients_dropped,
                                    to_string(static_cast<TrackingState>(last_state.load())));
     if (!config.trigger.controller.empty()) text += "; trigger " + trigger_status;
+    if (mqtt) {
+      const MqttStats q = mqtt->stats();
+      text += fmt::format("; mqtt {}, outbox {}, {} dropped, {} reconnects", q.connected ? "up" : "down",
+                          q.outbox_messages,
+                          q.dropped_disconnected + q.dropped_queue_full + q.dropped_outbox_full + q.dropped_handoff_full +
+                              q.dropped_outbox_error,
+                          q.reconnects);
+    }
     if (store) {
       const StoreStats st = store->stats();
       text += fmt::format("; storage {} written, {} dropped, {} failed", st.written, st.dropped, st.failed);
@@ -331,6 +351,7 @@ struct Daemon::Impl {
                     background_relearns.load(std::memory_order_relaxed),
                     background_bootstraps.load(std::memory_order_relaxed)};
     m.latency = latency.counts();
+    if (mqtt) m.mqtt = mqtt->stats();
     m.pairs_per_s = pairs_per_s.load(std::memory_order_relaxed);
     m.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return m;
@@ -352,11 +373,13 @@ struct Daemon::Impl {
     std::string line = encode_posture_line(posture, stream_stats());
     if (store && posture.seq % std::uint64_t(config.storage.posture_every) == 0)
       store->add_posture(posture.seq, posture.t_ns, line);
+    if (mqtt) mqtt->offer_posture(posture.t_ns, line);
     publisher->publish(std::move(line));
     publish_summaries(summaries->add(posture));
     for (const AlertEvent& e : alerts->update(posture)) {
       std::string alert = encode_alert(e, labels);
       if (store) store->add_alert(e.t_ns, alert);
+      if (mqtt) mqtt->publish_alert(alert);
       publisher->publish(std::move(alert));
     }
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
@@ -367,6 +390,7 @@ struct Daemon::Impl {
       if (store)
         store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns,
                            labels.worker.value_or(""), s.line);
+      if (mqtt) mqtt->publish_summary(s.line);
       publisher->publish(std::move(s.line));
     }
   }
@@ -542,6 +566,16 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     d.store = std::make_unique<Store>(store_options(d.config));
     d.store->add_event("info", fmt::format("started: source {}", d.source_name));
   }
+  auto mqtt = mqtt_options(d.config);
+  if (!mqtt) return mqtt.error();
+  if (*mqtt) {
+    auto started = MqttPublisher::start(std::move(**mqtt));
+    if (!started) return started.error();
+    d.mqtt = std::move(started).value();
+    spdlog::info("mqtt: publishing to {} under {}* (postures at {} Hz at most, QoS {}; outbox {})", d.config.mqtt.url,
+                 d.mqtt->topic(""), d.config.mqtt.posture_rate_hz, d.config.mqtt.qos,
+                 d.config.mqtt.outbox_path.empty() ? "in the state directory" : d.config.mqtt.outbox_path);
+  }
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
@@ -606,6 +640,7 @@ int Daemon::run() {
   const auto t0 = std::chrono::steady_clock::now();
   d.pipeline->stop();
   d.publish_summaries(d.summaries->finish());  // the last partial interval
+  if (d.mqtt) d.mqtt->stop();                  // sends what it can, says "offline"
   if (d.http) d.http->stop();
   if (d.live) d.live->stop();
   d.publisher->stop();
