@@ -54,7 +54,10 @@ class DaemonMqtt : public ::testing::Test {
   // A configuration replaying the flexion recording with 1 s summaries,
   // quick alerts, and `mqtt` as the [mqtt] section.
   std::filesystem::path config(const std::string& station, const std::string& mqtt, const std::string& extra = "") {
-    const auto path = dir_ / (station + ".toml");
+    std::string file = station;
+    for (char& c : file)
+      if (c == '/' || c == '#') c = '-';
+    const auto path = dir_ / (file + ".toml");
     test::write_file(path, "[station]\nname = \"" + station + "\"\n[cameras]\nsource = \"recording\"\nrecording = \"" +
                                (*recording_dir_ / "rec").string() +
                                "\"\ncalibration = \"/nonexistent/cal.yaml\"\n[publish]\nclient_queue = 100000\n"
@@ -288,7 +291,7 @@ TEST_F(DaemonMqtt, ARestartDeliversWhatWaitedInTheBoundedOutbox) {
   ASSERT_TRUE(sub.wait_for(test::scaled(30s), [&](const std::vector<MqttMessage>& ms) {
     std::set<std::string> got;
     for (auto& m : ms)
-      if (m.topic == "spinewatch/restart/summary") got.insert(m.payload);
+      if (m.topic == "spinewatch/restart/summary" || m.topic == "spinewatch/restart/alert") got.insert(m.payload);
     for (auto& p : pending)
       if (!got.count(p)) return false;
     return true;

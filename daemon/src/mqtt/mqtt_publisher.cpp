@@ -2,6 +2,7 @@
 
 #include <mosquitto.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <limits>
@@ -256,7 +257,7 @@ struct MqttPublisher::Impl {
     if (!outage) {
       outage = true;
       outage_since = Clock::now();
-      spdlog::warn("mqtt: {}: {}; retrying in {:.1f} s, backing off up to {:.0f} s (logged once per outage); "
+      spdlog::warn("mqtt: {}: {}; retrying in {:.1f} s, backing off up to {:.1f} s (logged once per outage); "
                    "summaries and alerts are kept in the outbox {} ({} now), postures are dropped meanwhile",
                    where(), why, delay.count() / 1000.0, o.reconnect_max_s, o.outbox_path.string(), outbox->size());
     } else {
@@ -371,7 +372,10 @@ void MqttPublisher::stop(std::chrono::milliseconds grace) {
 void MqttPublisher::offer_posture(std::int64_t t_ns, const std::string& line) {
   Impl& d = *impl_;
   if (d.posture_period_ns == 0) return;
-  if (d.posture_started && t_ns < d.next_posture_ns) return;
+  // A few milliseconds early still counts: camera timestamps jitter, and
+  // 5 Hz of a 30 Hz stream should be every sixth posture, not every seventh.
+  const std::int64_t slack = std::min<std::int64_t>(d.posture_period_ns / 4, 5'000'000);
+  if (d.posture_started && t_ns < d.next_posture_ns - slack) return;
   // Due: the next one a period on, or a period from now after a gap.
   d.next_posture_ns = d.posture_started && t_ns - d.next_posture_ns < d.posture_period_ns ? d.next_posture_ns + d.posture_period_ns
                                                                                          : t_ns + d.posture_period_ns;
