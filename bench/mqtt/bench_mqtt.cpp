@@ -168,6 +168,39 @@ void BM_PipelinePairWithMqtt(benchmark::State& state) {
 }
 BENCHMARK(BM_PipelinePairWithMqtt)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
+// The hand-over alone, as the estimator thread pays it per posture: a
+// 3 kB posture line offered to a connected publisher, every one due.
+void BM_OfferPosture(benchmark::State& state) {
+  spdlog::set_level(spdlog::level::warn);
+  const std::uint16_t port = free_port();
+  Broker broker(port);
+  const auto outbox = std::filesystem::temp_directory_path() / ("bench_mqtt_offer." + std::to_string(::getpid()) + ".db");
+  MqttOptions o;
+  o.url = {false, "127.0.0.1", port};
+  o.station = "bench";
+  o.posture_rate_hz = 120;
+  o.outbox_path = outbox;
+  auto mqtt = MqttPublisher::start(o);
+  if (!mqtt.ok()) {
+    state.SkipWithError(mqtt.error().message.c_str());
+    return;
+  }
+  for (int i = 0; i < 200 && !(*mqtt)->stats().connected; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const std::string line(3000, 'x');
+  std::int64_t t = 0;
+  for (auto _ : state) {
+    (*mqtt)->offer_posture(t, line);
+    t += kPeriodNs;
+  }
+  const MqttStats s = (*mqtt)->stats();
+  state.counters["dropped_queue_full"] = static_cast<double>(s.dropped_queue_full);
+  (*mqtt)->stop();
+  std::filesystem::remove(outbox);
+  std::filesystem::remove(outbox.string() + "-wal");
+  std::filesystem::remove(outbox.string() + "-shm");
+}
+BENCHMARK(BM_OfferPosture)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace spinewatch
 
