@@ -20,6 +20,7 @@
 #include "spinewatch/daemon/http_server.hpp"
 #include "spinewatch/daemon/latency_histogram.hpp"
 #include "spinewatch/daemon/live_view.hpp"
+#include "spinewatch/daemon/mqtt_publisher.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
@@ -206,6 +207,7 @@ struct Daemon::Impl {
   std::unique_ptr<AlertOutput> alert_output;  // [alerts] gpio_chip, when its line could be opened
   std::uint64_t alert_output_open_failures = 0;  // 0 or 1: the line could not be opened at start
   std::atomic<bool> alerts_silent{false};     // [alerts] silent; SIGHUP may change it
+  std::unique_ptr<MqttPublisher> mqtt;       // [mqtt] url set (docs/fleet.md)
   SummaryLabels labels;                      // station and UTC for summary and alert lines
   // The live view (with --http): its render thread feeds the HTTP server,
   // which runs on the publisher's I/O thread; stopped in that order, and
@@ -244,7 +246,17 @@ struct Daemon::Impl {
   StreamStats stream_stats() const {
     const auto p = pipeline->stats();
     const auto c = publisher->stats();
-    return {p.pairs, p.pairs_dropped, p.source.frames_lost, c.clients, c.clients_dropped};
+    StreamStats s{p.pairs, p.pairs_dropped, p.source.frames_lost, c.clients, c.clients_dropped};
+    if (mqtt) {
+      const MqttStats q = mqtt->stats();
+      s.mqtt = true;
+      s.mqtt_connected = q.connected ? 1 : 0;
+      s.mqtt_outbox = q.outbox_messages;
+      s.mqtt_dropped = q.dropped_disconnected + q.dropped_queue_full + q.dropped_outbox_full + q.dropped_handoff_full +
+                       q.dropped_outbox_error;
+      s.mqtt_reconnects = q.reconnects;
+    }
+    return s;
   }
 
   std::string status_text(double rate) const {
@@ -260,6 +272,14 @@ struct Daemon::Impl {
                           a.write_errors);
     } else if (alert_output_open_failures > 0) {
       text += "; alert line not open: alerts not signalled";
+    }
+    if (mqtt) {
+      const MqttStats q = mqtt->stats();
+      text += fmt::format("; mqtt {}, outbox {}, {} dropped, {} reconnects", q.connected ? "up" : "down",
+                          q.outbox_messages,
+                          q.dropped_disconnected + q.dropped_queue_full + q.dropped_outbox_full + q.dropped_handoff_full +
+                              q.dropped_outbox_error,
+                          q.reconnects);
     }
     if (store) {
       const StoreStats st = store->stats();
@@ -358,6 +378,7 @@ struct Daemon::Impl {
                     background_relearns.load(std::memory_order_relaxed),
                     background_bootstraps.load(std::memory_order_relaxed)};
     m.latency = latency.counts();
+    if (mqtt) m.mqtt = mqtt->stats();
     m.pairs_per_s = pairs_per_s.load(std::memory_order_relaxed);
     m.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return m;
@@ -379,6 +400,7 @@ struct Daemon::Impl {
     std::string line = encode_posture_line(posture, stream_stats());
     if (store && posture.seq % std::uint64_t(config.storage.posture_every) == 0)
       store->add_posture(posture.seq, posture.t_ns, line);
+    if (mqtt) mqtt->offer_posture(posture.t_ns, line);
     publisher->publish(std::move(line));
     publish_summaries(summaries->add(posture));
     const bool silent = alerts_silent.load(std::memory_order_relaxed);
@@ -388,6 +410,7 @@ struct Daemon::Impl {
       if (alert_output) alert_output->on_event(e);
       std::string alert = encode_alert(e, labels, silent);
       if (store) store->add_alert(e.t_ns, alert);
+      if (mqtt) mqtt->publish_alert(alert);
       publisher->publish(std::move(alert));
     }
     if (!first_pair.exchange(true)) asio::post(control, [this] { on_first_pair(); });
@@ -398,6 +421,7 @@ struct Daemon::Impl {
       if (store)
         store->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns,
                            labels.worker.value_or(""), s.line);
+      if (mqtt) mqtt->publish_summary(s.line);
       publisher->publish(std::move(s.line));
     }
   }
@@ -598,6 +622,16 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     d.store->add_event("info", fmt::format("started: source {}", d.source_name));
     if (d.alert_output_open_failures > 0) d.store->add_event("error", d.hello_warnings.back());
   }
+  auto mqtt = mqtt_options(d.config);
+  if (!mqtt) return mqtt.error();
+  if (*mqtt) {
+    auto started = MqttPublisher::start(std::move(**mqtt));
+    if (!started) return started.error();
+    d.mqtt = std::move(started).value();
+    spdlog::info("mqtt: publishing to {} under {}* (postures at {} Hz at most, QoS {}; outbox {})", d.config.mqtt.url,
+                 d.mqtt->topic(""), d.config.mqtt.posture_rate_hz, d.config.mqtt.qos,
+                 d.config.mqtt.outbox_path.empty() ? "in the state directory" : d.config.mqtt.outbox_path);
+  }
   if (*background)
     if (auto s = estimator->set_backgrounds((*background)->frontal.view(), (*background)->lateral.view()); !s)
       return s.error();
@@ -663,6 +697,7 @@ int Daemon::run() {
   d.pipeline->stop();
   if (d.alert_output) d.alert_output->stop();  // the buzzer or lamp off before anything else
   d.publish_summaries(d.summaries->finish());  // the last partial interval
+  if (d.mqtt) d.mqtt->stop();                  // sends what it can, says "offline"
   if (d.http) d.http->stop();
   if (d.live) d.live->stop();
   d.publisher->stop();

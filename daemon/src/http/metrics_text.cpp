@@ -34,6 +34,33 @@ class Family {
 
 constexpr const char* kCamera[2] = {"camera=\"frontal\"", "camera=\"lateral\""};
 
+// [mqtt] (docs/fleet.md): only while MQTT is configured.
+void mqtt_metrics(std::string& out, const MqttStats& q) {
+  Family(out, "spinewatch_mqtt_connected", "gauge", "1 while the link to the MQTT broker is up.")
+      .sample(std::uint64_t{q.connected ? 1u : 0u});
+  Family(out, "spinewatch_mqtt_outbox_messages", "gauge",
+         "Summaries and alerts in the persistent outbox, waiting for the broker's acknowledgement.")
+      .sample(q.outbox_messages);
+  Family(out, "spinewatch_mqtt_published_total", "counter",
+         "MQTT messages the broker has (QoS 1: acknowledged; QoS 0: written to the connection), by topic.")
+      .sample(q.published_status, "topic=\"status\"")
+      .sample(q.published_summary, "topic=\"summary\"")
+      .sample(q.published_alert, "topic=\"alert\"")
+      .sample(q.published_posture, "topic=\"posture\"");
+  Family(out, "spinewatch_mqtt_dropped_total", "counter", "MQTT messages dropped, by reason.")
+      .sample(q.dropped_disconnected, "reason=\"disconnected\"")
+      .sample(q.dropped_queue_full, "reason=\"queue_full\"")
+      .sample(q.dropped_outbox_full, "reason=\"outbox_full\"")
+      .sample(q.dropped_handoff_full, "reason=\"handoff_full\"")
+      .sample(q.dropped_outbox_error, "reason=\"outbox_error\"");
+  Family(out, "spinewatch_mqtt_reconnects_total", "counter", "Links to the MQTT broker made again after an outage.")
+      .sample(q.reconnects);
+  Family(out, "spinewatch_mqtt_connect_failures_total", "counter", "Failed connection attempts to the MQTT broker, by reason.")
+      .sample(q.failed_auth, "reason=\"auth\"")
+      .sample(q.failed_tls, "reason=\"tls\"")
+      .sample(q.failed_network, "reason=\"network\"");
+}
+
 }  // namespace
 
 std::string metrics_text(const DaemonMetrics& m) {
@@ -124,6 +151,8 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_live_frames_total", "counter", "Live view pictures drawn and JPEG-encoded.").sample(l.frames);
   Family(out, "spinewatch_live_render_seconds_total", "counter", "Time spent drawing and encoding live view pictures.")
       .sample(static_cast<double>(l.render_us) * 1e-6);
+
+  if (m.mqtt) mqtt_metrics(out, *m.mqtt);
 
   Family(out, "spinewatch_pairs_per_second", "gauge", "Pairs processed per second over the last second.")
       .sample(m.pairs_per_s);

@@ -50,6 +50,10 @@ const std::vector<Field>& fields() {
       SW_FIELD(http, listen), SW_FIELD(http, allow_unauthenticated), SW_FIELD(http, fps), SW_FIELD(http, camera_pixels),
       SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
+      SW_FIELD(mqtt, url), SW_FIELD(mqtt, ca_file), SW_FIELD(mqtt, cert_file), SW_FIELD(mqtt, key_file),
+      SW_FIELD(mqtt, username), SW_FIELD(mqtt, password_file), SW_FIELD(mqtt, posture_rate_hz), SW_FIELD(mqtt, qos),
+      SW_FIELD(mqtt, outbox_path), SW_FIELD(mqtt, outbox_max_messages), SW_FIELD(mqtt, keepalive_s),
+      SW_FIELD(mqtt, reconnect_min_s), SW_FIELD(mqtt, reconnect_max_s),
   };
   return table;
 }

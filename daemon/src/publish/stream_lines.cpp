@@ -50,6 +50,13 @@ std::string encode_posture_line(const Posture& posture, const StreamStats& stats
                    {"background_updates", posture.background.updates},
                    {"background_relearns", posture.background.relearns},
                    {"background_bootstraps", posture.background.bootstraps}};
+  if (stats.mqtt) {
+    auto& s = line["stats"];
+    s["mqtt_connected"] = stats.mqtt_connected;
+    s["mqtt_outbox"] = stats.mqtt_outbox;
+    s["mqtt_dropped"] = stats.mqtt_dropped;
+    s["mqtt_reconnects"] = stats.mqtt_reconnects;
+  }
   return line.dump();
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "spinewatch/daemon/mqtt_url.hpp"
 #include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
@@ -73,6 +74,18 @@ Key string_key(std::string name, std::string& (*field)(Config&), std::vector<std
             if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end())
               return fmt::format("\"{}\" is not one of: {}", v, fmt::join(allowed, ", "));
             field(c) = std::move(v);
+            return std::nullopt;
+          }};
+}
+
+// mqtt.url: "" (off) or a URL parse_mqtt_url takes.
+Key mqtt_url_key() {
+  return {"mqtt.url", [](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_string()) return fmt::format("expected a string, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            std::string v = *n.value<std::string>();
+            if (!v.empty())
+              if (auto url = parse_mqtt_url(v); !url) return url.error().message;
+            c.mqtt.url = std::move(v);
             return std::nullopt;
           }};
 }
@@ -170,6 +183,20 @@ const std::vector<Key>& keys() {
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),
       int_key("log.status_interval_s", [](Config& c) -> int& { return c.log.status_interval_s; }, {1, 86400}),
+
+      mqtt_url_key(),
+      string_key("mqtt.ca_file", [](Config& c) -> std::string& { return c.mqtt.ca_file; }),
+      string_key("mqtt.cert_file", [](Config& c) -> std::string& { return c.mqtt.cert_file; }),
+      string_key("mqtt.key_file", [](Config& c) -> std::string& { return c.mqtt.key_file; }),
+      string_key("mqtt.username", [](Config& c) -> std::string& { return c.mqtt.username; }),
+      string_key("mqtt.password_file", [](Config& c) -> std::string& { return c.mqtt.password_file; }),
+      double_key("mqtt.posture_rate_hz", [](Config& c) -> double& { return c.mqtt.posture_rate_hz; }, {0.0, 120.0}),
+      int_key("mqtt.qos", [](Config& c) -> int& { return c.mqtt.qos; }, {0, 1}),
+      string_key("mqtt.outbox_path", [](Config& c) -> std::string& { return c.mqtt.outbox_path; }),
+      int_key("mqtt.outbox_max_messages", [](Config& c) -> int& { return c.mqtt.outbox_max_messages; }, {1, 10000000}),
+      int_key("mqtt.keepalive_s", [](Config& c) -> int& { return c.mqtt.keepalive_s; }, {5, 3600}),
+      double_key("mqtt.reconnect_min_s", [](Config& c) -> double& { return c.mqtt.reconnect_min_s; }, {0.1, 3600.0}),
+      double_key("mqtt.reconnect_max_s", [](Config& c) -> double& { return c.mqtt.reconnect_max_s; }, {0.1, 86400.0}),
   };
   return table;
 }
@@ -188,6 +215,20 @@ bool known_section(std::string_view section) {
 
 std::string at(std::string_view source, const toml::node& n) {
   return fmt::format("{}:{}", source, n.source().begin.line);
+}
+
+// The [mqtt] keys taken together: the key at fault and the problem.
+std::optional<std::pair<std::string, std::string>> check_mqtt(const Config::Mqtt& m) {
+  const bool tls = m.url.rfind("mqtts://", 0) == 0;
+  for (const auto& [key, value] : {std::pair{"ca_file", &m.ca_file}, {"cert_file", &m.cert_file}, {"key_file", &m.key_file}})
+    if (!value->empty() && !tls) return std::pair{key, "set, but mqtt.url is not mqtts://: a plain connection has no TLS"};
+  if (m.cert_file.empty() != m.key_file.empty())
+    return std::pair{m.cert_file.empty() ? "key_file" : "cert_file", "the client certificate and its key go together: give both"};
+  if (!m.password_file.empty() && m.username.empty())
+    return std::pair{"password_file", "set without mqtt.username"};
+  if (m.reconnect_min_s > m.reconnect_max_s)
+    return std::pair{"reconnect_min_s", fmt::format("{} is above mqtt.reconnect_max_s ({})", m.reconnect_min_s, m.reconnect_max_s)};
+  return std::nullopt;
 }
 
 }  // namespace
@@ -231,6 +272,11 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
     const toml::node* node = root["subject"][key].node();
     return Error{node ? fmt::format("{}: subject.{}", at(source, *node), check.message)
                       : fmt::format("{}: subject.{}", source, check.message)};
+  }
+  if (auto problem = check_mqtt(config.mqtt)) {
+    const toml::node* node = root["mqtt"][problem->first].node();
+    return Error{node ? fmt::format("{}: mqtt.{}: {}", at(source, *node), problem->first, problem->second)
+                      : fmt::format("{}: mqtt.{}: {}", source, problem->first, problem->second)};
   }
   return config;
 }

@@ -147,6 +147,25 @@ struct Config {
     bool operator==(const Log&) const = default;
   } log;
 
+  struct Mqtt {
+    // The site's MQTT broker (interfaces.md §7, docs/fleet.md):
+    // "mqtt://HOST:PORT" or "mqtts://HOST:PORT"; "" = off.
+    std::string url = "";
+    std::string ca_file = "";    // mqtts: the CA that signed the broker's certificate; "" = the system's CAs
+    std::string cert_file = "";  // mqtts: this station's client certificate and key, both or neither
+    std::string key_file = "";
+    std::string username = "";
+    std::string password_file = "";  // read at start; must not be readable by group or others
+    double posture_rate_hz = 1.0;    // posture messages a second at most; 0 = none
+    int qos = 0;                     // of the posture messages (summaries and alerts are always QoS 1)
+    std::string outbox_path = "";    // summaries and alerts until the broker has them; "" = the state directory's
+    int outbox_max_messages = 100000;  // beyond it the oldest is dropped (counted)
+    int keepalive_s = 30;
+    double reconnect_min_s = 1.0;    // back-off after a failed attempt, doubled up to reconnect_max_s
+    double reconnect_max_s = 60.0;
+    bool operator==(const Mqtt&) const = default;
+  } mqtt;
+
   bool operator==(const Config&) const = default;
 };
 

@@ -4,10 +4,12 @@
 // part is read from its owner's atomics; nothing here is kept twice.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "spinewatch/daemon/latency_histogram.hpp"
 #include "spinewatch/daemon/live_view.hpp"
+#include "spinewatch/daemon/mqtt_publisher.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 
@@ -39,6 +41,7 @@ struct DaemonMetrics {
   LatencyHistogram::Counts latency;
   LiveViewStats live;
   HttpStats http;
+  std::optional<MqttStats> mqtt;  // with [mqtt] url set (docs/fleet.md)
   double pairs_per_s = 0;  // over the last second
   double uptime_s = 0;
 };

@@ -17,6 +17,10 @@ struct StreamStats {
   std::uint64_t frames_lost = 0;      // frames that never became part of a pair
   std::uint64_t clients = 0;          // clients connected now
   std::uint64_t clients_dropped = 0;  // clients dropped since start
+  // With [mqtt] url set (docs/fleet.md): the link (1 up, 0 down), the
+  // outbox's messages, MQTT messages dropped (all reasons), reconnections.
+  bool mqtt = false;
+  std::uint64_t mqtt_connected = 0, mqtt_outbox = 0, mqtt_dropped = 0, mqtt_reconnects = 0;
 };
 
 // {"class":"hello","v":1,"daemon_version":…,"station":…,"rig":{…},"source":…}
