@@ -27,6 +27,7 @@ struct TwistFrame {
   std::optional<double> published;  // ergonomics.twist_deg
   TrackingState state = TrackingState::Lost;
   std::string flag;
+  std::optional<std::int64_t> sign_margin_px;  // the mirrored twist's extra cost, when checked
   bool tracking() const { return state == TrackingState::Tracking; }
   bool unflagged_tracking() const { return tracking() && flag.empty(); }
 };
@@ -61,6 +62,7 @@ inline Result<std::vector<TwistFrame>> run_twist_phantom(const std::string& scen
     f.flag = posture.fit.flag.value_or("");
     const EstimatorTrace trace = estimator.last_trace();
     if (trace.fit && trace.fit->estimated) f.fit = trace.fit->pose.twist;
+    if (trace.fit) f.sign_margin_px = trace.fit->twist_sign_margin_px;
     if (posture.ergonomics) f.published = posture.ergonomics->twist_deg;
     out.push_back(f);
   }

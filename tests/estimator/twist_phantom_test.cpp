@@ -24,8 +24,9 @@ void print(const std::string& what, const std::vector<test::TwistFrame>& frames)
   if (!trace_wanted()) return;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto& f = frames[i];
-    std::printf("%s %3zu truth %6.1f fit %6.1f published %6.1f %s %s\n", what.c_str(), i, f.truth, f.fit.value_or(NAN),
-                f.published.value_or(NAN), std::string(to_string(f.state)).c_str(), f.flag.c_str());
+    std::printf("%s %3zu truth %6.1f fit %6.1f published %6.1f margin %5lld %s %s\n", what.c_str(), i, f.truth,
+                f.fit.value_or(NAN), f.published.value_or(NAN), static_cast<long long>(f.sign_margin_px.value_or(-1)),
+                std::string(to_string(f.state)).c_str(), f.flag.c_str());
   }
 }
 
@@ -56,6 +57,10 @@ TEST(TwistPhantom, ATwentyDegreeTwistIsSeenOrFlaggedNeverConfidentlyUntwisted) {
       if (f.flag == kTwistUnresolvedFlag) ++flagged;
       if (f.unflagged_tracking()) ++tracked;
       if (f.unflagged_tracking() && std::abs(*f.published) < 10) ++confident_untwisted;
+      // Resolved: the magnitude within 5° and the sign right.
+      if (f.unflagged_tracking()) {
+        EXPECT_NEAR(*f.published, f.truth, 5.0) << subject;
+      }
       if (std::abs(*f.published) >= 10) ++seen;
       abs_error += std::abs(std::abs(*f.published) - std::abs(f.truth));
     }
