@@ -71,7 +71,7 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
       twist.push_back(std::abs(published - true_twist));
       const bool unresolved = p->fit.flag == kTwistUnresolvedFlag;
       e.twist_unresolved_frames += unresolved;
-      if (std::abs(true_twist) > 10) {
+      if (std::abs(true_twist) >= 15) {
         ++e.twisted_frames;
         e.twisted_published_untwisted += !unresolved && std::abs(published) <= 10;
       }
@@ -111,7 +111,7 @@ std::string format_evaluation(const Evaluation& e) {
   line("vertebrae", e.all_vertebrae);
   out += fmt::format("  {:<10} {:>8.1f} {:>8.1f} {:>8.1f}   (T1 vs L5 axial twist, degrees)\n", "twist", e.twist.mean,
                      e.twist.p95, e.twist.max);
-  out += fmt::format("twist beyond 10 deg: {} frames, {} published within 10 deg unflagged; {} frames flagged twist_unresolved\n",
+  out += fmt::format("true twist 15 deg or more: {} frames, {} published within 10 deg unflagged; {} frames flagged twist_unresolved\n",
                      e.twisted_frames, e.twisted_published_untwisted, e.twist_unresolved_frames);
   const char* axes[] = {"x (ant)", "y (sup)", "z (right)"};
   out += "per axis |Δ|     neck mean/p95      waist mean/p95\n";
