@@ -27,6 +27,9 @@ nlohmann::json evaluation_json(const Evaluation& e) {
           {"lost_frames", e.lost_frames},   {"init_frames", e.init_frames},
           {"lost_seqs", e.lost_seqs},       {"neck", stats_json(e.neck)},
           {"waist", stats_json(e.waist)},   {"vertebrae", stats_json(e.all_vertebrae)},
+          {"twist_deg", stats_json(e.twist)},               {"twisted_frames", e.twisted_frames},
+          {"twisted_published_untwisted", e.twisted_published_untwisted},
+          {"twist_unresolved_frames", e.twist_unresolved_frames},
           {"per_level", levels}};
 }
 

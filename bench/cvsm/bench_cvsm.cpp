@@ -73,9 +73,9 @@ struct PhantomPairs {
     return {yuyv[i][static_cast<std::size_t>(v)].data(), kW, kH, 2 * kW, 2};
   }
 };
-std::optional<PhantomPairs> flexion_pairs(benchmark::State& state, bool colour) {
+std::optional<PhantomPairs> flexion_pairs(benchmark::State& state, bool colour, const char* scenario = "flexion") {
   PhantomPairs p;
-  p.options.scenario = "flexion";
+  p.options.scenario = scenario;
   p.options.colour = colour;
   auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
   if (!subject.ok()) {
@@ -99,8 +99,9 @@ std::optional<PhantomPairs> flexion_pairs(benchmark::State& state, bool colour) 
 // With `lifecycle`, what the estimator does around the fit since the
 // background lifecycle: the silhouettes gated by the last fit's outline,
 // the fitted outline rendered and grown, both backgrounds adapted.
-void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle, bool colour = false) {
-  auto pairs = flexion_pairs(state, colour);
+void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle, bool colour = false,
+                              const char* scenario = "flexion") {
+  auto pairs = flexion_pairs(state, colour, scenario);
   if (!pairs) return;
   const auto& frames = pairs->frames;
   SilhouetteExtractor extractors[2] = {SilhouetteExtractor{SilhouetteOptions{}}, SilhouetteExtractor{SilhouetteOptions{}}};
@@ -154,6 +155,10 @@ BENCHMARK(BM_PairColourWithBackgroundLifecycle)->Unit(benchmark::kMicrosecond)->
 
 
 BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+// The `twist` scenario (±20°): most pairs beyond 6° of twist, where the
+// tracker also scores the mirrored twist (docs/cvsm.md, "Axial twist").
+void BM_PairSilhouettesAndFitTwist(benchmark::State& state) { pair_silhouettes_and_fit(state, false, false, "twist"); }
+BENCHMARK(BM_PairSilhouettesAndFitTwist)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {

@@ -164,6 +164,8 @@ TEST(Eval, TruthAgainstItselfIsExact) {
   EXPECT_EQ(j["lost_frames"], 0);
   EXPECT_NEAR(j["neck"]["max"].get<double>(), 0.0, 0.01);
   EXPECT_NEAR(j["vertebrae"]["max"].get<double>(), 0.0, 0.01);
+  EXPECT_NEAR(j["twist_deg"]["max"].get<double>(), 0.0, 0.01);
+  EXPECT_EQ(j["twisted_published_untwisted"], 0);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "spinewatch/estimator/fit_flags.hpp"
 #include "spinewatch/estimator/load/exposure_accumulator.hpp"
 #include "spinewatch/estimator/load/exposure_json.hpp"
 #include "test_support.hpp"
@@ -178,6 +179,37 @@ TEST(ExposureAccumulator, LateralBendAndTwistEntriesAndTimeBeyondTenDegrees) {
   EXPECT_EQ(s.axial_twist.entries, 1u);
   EXPECT_NEAR(s.axial_twist.over_s, 0.2, kEps);
   EXPECT_NEAR(s.lateral_bend.per_minute(s.tracked_s), 3 * 60 / 0.9, 1e-9);
+}
+
+// A twist the fit could not resolve (its sign unknown) is counted by its
+// magnitude like the rest, and its time apart, so the summary says what
+// axial_twist rests on.
+TEST(ExposureAccumulator, UnresolvedTwistTimeIsCountedApart) {
+  ExposureAccumulator acc(every(60'000));
+  auto unresolved = [](std::int64_t t_ms, double twist) {
+    Posture p = tracked(t_ms, 0, 0, twist);
+    p.fit.flag = std::string(kTwistUnresolvedFlag);
+    return p;
+  };
+  Posture occluded = tracked(500, 0, 0, 0);
+  occluded.fit.flag = "occluded";
+  const auto out = run(acc, {tracked(0, 0, 0, 0), unresolved(100, 14), unresolved(200, 16), tracked(300, 0, 0, 15),
+                             unresolved(400, 8), occluded, tracked(600, 0, 0, 0)});
+  const ExposureSummary& s = out[0];
+  EXPECT_NEAR(s.twist_unresolved_s, 0.3, kEps);
+  EXPECT_EQ(s.axial_twist.entries, 1u);
+  EXPECT_NEAR(s.axial_twist.over_s, 0.3, kEps);
+  auto back = decode_summary(encode_summary(s), "line");
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_NEAR(back->summary.twist_unresolved_s, 0.3, 1e-3);
+  // Summaries from before it was counted have none: read as 0.
+  std::string old_line = encode_summary(s);
+  const auto pos = old_line.find(",\"unresolved_s\":");
+  ASSERT_NE(pos, std::string::npos);
+  old_line.erase(pos, old_line.find('}', pos) - pos);
+  auto old = decode_summary(old_line, "line");
+  ASSERT_TRUE(old) << old.error().message;
+  EXPECT_EQ(old->summary.twist_unresolved_s, 0.0);
 }
 
 TEST(ExposureAccumulator, HoldsBeyondTheLimitAndTheirTime) {

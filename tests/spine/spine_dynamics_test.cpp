@@ -170,6 +170,49 @@ TEST(SpineDynamics, IncrementalStepsTrackAMovingTarget) {
   EXPECT_LE(r.overall.max, 6.0) << format_table(r);
 }
 
+// Axial rotation of T1 relative to L5 about the vertical (swing-twist), degrees.
+double t1_l5_twist_deg(const SpinePose& p) {
+  const Eigen::Quaterniond rel = p[kWaistIndex].q.conjugate() * p[kNeckIndex].q;
+  return 2.0 * std::atan2(rel.y(), rel.w()) * 180.0 / M_PI;
+}
+
+// The rough fit's end orientations carry its twist (neck_q / waist_q):
+// the model follows T1's 20° against L5, spread over the levels about as
+// the published axial ranges of motion share it; given only directions,
+// the twist stays where reset() left it.
+TEST(SpineDynamics, EndOrientationsCarryTheTwistAndTheLevelsShareIt) {
+  const SpineModel model = SpineModel::generic(1750, coarse());
+  const SpinePose neutral = model.neutral();
+  const double twist0 = t1_l5_twist_deg(neutral);
+  SpineTargets t;
+  t.neck = neutral[kNeckIndex].body_center;
+  t.waist = neutral[kWaistIndex].body_center;
+  t.neck_q = Eigen::Quaterniond(Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitY())) * neutral[kNeckIndex].q;
+  t.waist_q = neutral[kWaistIndex].q;
+  SpineDynamics dyn(model), held(model);
+  SpineTargets directions_only = t;
+  directions_only.neck_q.reset();
+  directions_only.waist_q.reset();
+  directions_only.neck_dir = *t.neck_q * Eigen::Vector3d::UnitY();
+  directions_only.waist_dir = *t.waist_q * Eigen::Vector3d::UnitY();
+  for (int i = 0; i < 60; ++i) {
+    dyn.step(t, 1.0 / 30);
+    held.step(directions_only, 1.0 / 30);
+  }
+  EXPECT_NEAR(t1_l5_twist_deg(dyn.pose()) - twist0, 20.0, 1.0);
+  EXPECT_NEAR(t1_l5_twist_deg(held.pose()) - twist0, 0.0, 0.5);
+  expect_anatomical(dyn.pose(), model.spec(), "twisted");
+  const auto angles = intervertebral_angles(dyn.pose()), rest = intervertebral_angles(neutral);
+  const SegmentalMotion share = distribute(model.spec(), 0, 0, 20);
+  double total = 0;
+  for (std::size_t j = 0; j < kJointCount; ++j) {
+    const double twist = angles[j].twist - rest[j].twist;
+    total += twist;
+    EXPECT_NEAR(twist, share.joints[j].twist, 0.5 + 0.3 * share.joints[j].twist) << kVertebraNames[j];
+  }
+  EXPECT_NEAR(total, 20.0, 1.5);
+}
+
 TEST(SpineDynamics, ResetPlacesThePoseAndStepsStayBounded) {
   const SpineModel model = SpineModel::generic(1750, coarse());
   SpineDynamics dyn(model);

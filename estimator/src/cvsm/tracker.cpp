@@ -5,6 +5,7 @@
 
 #include "coordinate_search.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "spinewatch/estimator/fit_flags.hpp"
 #include "subject_estimate.hpp"
 
 namespace spinewatch {
@@ -148,6 +149,38 @@ struct CvsmTracker::Impl {
     return c.evaluations + d.evaluations;
   }
 
+  // Axial twist: the two views see its magnitude (a twisted thorax and the
+  // arms hanging from it narrow the frontal outline and spread the lateral
+  // one) far better than its sign: under a parallel projection a twist of
+  // +θ and −θ draw the same pair of outlines, and only perspective (the
+  // nearer shoulder larger), the forearms reaching forward and the trunk's
+  // front/back asymmetry about the spine tell them apart. So once a search
+  // settles on a twist of kTwistSignatureDeg or more, the mirrored twist
+  // (every other parameter kept) is scored too: the better of the two is
+  // kept, and when they score within kTwistSignMarginPx the sign is not
+  // resolved and the pair is flagged "twist_unresolved" (docs/cvsm.md,
+  // "Axial twist"). Two evaluations, on the search's rows.
+  static constexpr double kTwistSignatureDeg = 6;
+  static constexpr std::int64_t kTwistSignMarginPx = 40;
+  struct TwistCheck {
+    bool checked = false;
+    std::int64_t margin_px = 0;  // mirrored twist's cost − the kept one's, ≥ 0
+    bool resolved() const { return !checked || margin_px >= kTwistSignMarginPx; }
+  };
+  TwistCheck check_twist_sign(int& candidates) {
+    TwistCheck t;
+    const PoseParams a = to_params(pose);
+    if (std::abs(a[2]) < kTwistSignatureDeg) return t;
+    PoseParams mirrored = a;
+    mirrored[2] = -a[2];
+    const std::int64_t kept = cost_of(a, INT64_MAX), other = cost_of(mirrored, INT64_MAX);
+    candidates += 2;
+    t.checked = true;
+    if (other < kept) pose = to_pose(mirrored);
+    t.margin_px = std::abs(other - kept);
+    return t;
+  }
+
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
     CvsmResult r;
     cost->set_row_step(1);  // the reported figures are whole-image pixel counts
@@ -233,7 +266,11 @@ struct CvsmTracker::Impl {
     } else {
       candidates = local_search(opt.local_budget);
     }
+    const TwistCheck twist = check_twist_sign(candidates);
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
+    if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
+    // A silhouette flag says more about the pair; it stays.
+    if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);
     if (r.state == TrackingState::Lost) {
       // Keep the last good pose as the start of the next search.
       if (!have_previous) pose = before;

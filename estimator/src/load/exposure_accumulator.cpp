@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spinewatch/estimator/fit_flags.hpp"
+
 namespace spinewatch {
 namespace {
 
@@ -28,6 +30,7 @@ ExposureAccumulator::Sample ExposureAccumulator::sample_of(const Posture& p) con
     s.zone = inclination_zone(e.trunk_inclination_deg, l);
     s.lateral_over = std::abs(e.lateral_bend_deg) > l.bend_twist_deg;
     s.twist_over = std::abs(e.twist_deg) > l.bend_twist_deg;
+    s.twist_unresolved = p.fit.flag == kTwistUnresolvedFlag;
     s.reba = std::clamp(e.reba_trunk, 1, 5);
     s.rula = rula_trunk_score({e.trunk_inclination_deg, e.lateral_bend_deg, e.twist_deg}, l);
     for (const LevelLoad& load : p.loads)
@@ -152,6 +155,7 @@ void ExposureAccumulator::integrate(Sample& s, std::int64_t a, std::int64_t b) {
     w->any_tracked = true;
     if (s.lateral_over) x.lateral_bend.over_s += dt;
     if (s.twist_over) x.axial_twist.over_s += dt;
+    if (s.twist_unresolved) x.twist_unresolved_s += dt;
     x.reba_trunk_s[std::size_t(s.reba - 1)] += dt;
     x.rula_trunk_s[std::size_t(s.rula - 1)] += dt;
     if (hold_start_ns_) {

@@ -96,6 +96,7 @@ ojson to_json(const ExposureSummary& s, const SummaryLabels& labels) {
                             {"max_deg", round_to(s.inclination_max_deg, 0.01)}};
   j["lateral_bend"] = beyond_json(s.lateral_bend, s.bend_twist_limit_deg, s.tracked_s);
   j["axial_twist"] = beyond_json(s.axial_twist, s.bend_twist_limit_deg, s.tracked_s);
+  j["axial_twist"]["unresolved_s"] = seconds(s.twist_unresolved_s);
   j["holding"] = {{"zone", "20_60"},
                   {"limit_s", s.hold_limit_s},
                   {"beyond_s", seconds(s.hold_beyond_s)},
@@ -157,6 +158,12 @@ Result<LabelledSummary> decode_summary(std::string_view line, std::string_view w
       {"/lumbar_compression/action_limit_n", &s.action_limit_n},
       {"/lumbar_compression/above_action_limit_s", &s.above_action_limit_s},
       {"/lumbar_compression/cumulative_n_s", &s.cumulative_n_s}};
+  // Optional: summaries written before it was counted have none.
+  if (const json::json_pointer p("/axial_twist/unresolved_s"); j.contains(p)) {
+    if (!j.at(p).is_number() || j.at(p).get<double>() < 0)
+      return Error{fmt::format("{}: axial_twist/unresolved_s: expected a number of seconds", where)};
+    s.twist_unresolved_s = j.at(p).get<double>();
+  }
   std::vector<std::string> zone_paths;
   for (std::size_t z = 0; z < kInclinationZoneCount; ++z)
     zone_paths.push_back("/trunk_inclination/zones_s/" + std::string(zone_key(InclinationZone(z))));

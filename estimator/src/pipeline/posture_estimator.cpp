@@ -319,7 +319,10 @@ Posture PostureEstimator::process(const FramePair& pair) {
     m.dynamics->reset(fit.vertebrae);
     m.dynamics_reset_pending = false;
   }
-  const SpineTargets targets{fit.neck, fit.waist, fit.neck_dir, fit.waist_dir};
+  // The fit's end orientations carry its axial twist; the accurate model
+  // spreads T1's twist against L5 over the levels by their torsion springs.
+  const SpineTargets targets{fit.neck, fit.waist, fit.neck_dir, fit.waist_dir, fit.vertebrae[kNeckIndex].q,
+                             fit.vertebrae[kWaistIndex].q};
   const SpinePose pose = m.dynamics->step(targets, step_seconds(m.previous_t_ns, pair.timestamp_ns));
   m.previous_t_ns = pair.timestamp_ns;
 

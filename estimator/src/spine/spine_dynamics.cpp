@@ -156,12 +156,16 @@ double SpineDynamics::implicit_step(const SpineTargets& targets, double h, const
   // twist; without a direction only that twist is held. Holding the twist
   // matters: with both ends free to spin about the line joining them, a
   // forward bend can buckle into a cheaper sideways one.
-  auto direction_torque = [&](std::size_t i, const std::optional<Eigen::Vector3d>& dir) {
+  // With a whole orientation (the fit's twist resolved) that is the goal.
+  auto direction_torque = [&](std::size_t i, const std::optional<Eigen::Vector3d>& dir,
+                              const std::optional<Eigen::Quaterniond>& q) {
     const double kd = options_.direction_stiffness_nm_per_rad;
     const Eigen::Vector3d ref_axis = reference_[i].q * Eigen::Vector3d::UnitY();
-    const bool has_dir = dir && dir->norm() > 1e-9;
-    const Eigen::Vector3d goal_axis = has_dir ? Eigen::Vector3d(dir->normalized()) : Eigen::Vector3d(R[i].col(1));
-    const Eigen::Quaterniond goal = Eigen::Quaterniond::FromTwoVectors(ref_axis, goal_axis) * reference_[i].q;
+    const bool has_dir = q || (dir && dir->norm() > 1e-9);
+    const Eigen::Vector3d goal_axis =
+        q ? Eigen::Vector3d(*q * Eigen::Vector3d::UnitY()) : has_dir ? Eigen::Vector3d(dir->normalized()) : Eigen::Vector3d(R[i].col(1));
+    const Eigen::Quaterniond goal =
+        q ? q->normalized() : Eigen::Quaterniond::FromTwoVectors(ref_axis, goal_axis) * reference_[i].q;
     const Eigen::Vector3d error = rotation_vector(goal * pose_[i].q.conjugate());
     if (has_dir) {
       sys.rhs[i].tail<3>() += kd * error;
@@ -172,8 +176,8 @@ double SpineDynamics::implicit_step(const SpineTargets& targets, double h, const
       sys.diag[i].bottomRightCorner<3, 3>() += kd * a * a.transpose();
     }
   };
-  direction_torque(kNeckIndex, targets.neck_dir);
-  direction_torque(kWaistIndex, targets.waist_dir);
+  direction_torque(kNeckIndex, targets.neck_dir, targets.neck_q);
+  direction_torque(kWaistIndex, targets.waist_dir, targets.waist_q);
 
   // The ends translate as prescribed: by the virtual forces' displacement in
   // phase 1 (Eqs. 11–13), not at all in phase 2 (Eqs. 14–17).
@@ -220,8 +224,21 @@ SpineTargets SpineDynamics::bounded_targets(const SpineTargets& targets) const {
     const Eigen::Quaterniond full = Eigen::Quaterniond::FromTwoVectors(a, b);
     dir = Eigen::Quaterniond::Identity().slerp(turn / angle, full) * a;
   };
+  // A whole orientation is turned toward the same way, twist included;
+  // its axis then stands for the direction.
+  auto turn_orientation = [&](std::size_t i, std::optional<Eigen::Quaterniond>& q, std::optional<Eigen::Vector3d>& dir) {
+    if (!q) return;
+    Eigen::Quaterniond goal = q->normalized();
+    if (goal.dot(pose_[i].q) < 0) goal.coeffs() *= -1;  // the short way round
+    const double angle = pose_[i].q.angularDistance(goal);
+    if (angle > turn) goal = pose_[i].q.slerp(turn / angle, goal);
+    q = goal;
+    dir = goal * Eigen::Vector3d::UnitY();
+  };
   turn_toward(kNeckIndex, t.neck_dir);
   turn_toward(kWaistIndex, t.waist_dir);
+  turn_orientation(kNeckIndex, t.neck_q, t.neck_dir);
+  turn_orientation(kWaistIndex, t.waist_q, t.waist_dir);
   return t;
 }
 

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "spinewatch/estimator/fit_flags.hpp"
+
 namespace spinewatch {
 
 ErrorStats summarise(std::vector<double> values) {
@@ -23,12 +25,21 @@ ErrorStats summarise(std::vector<double> values) {
   return s;
 }
 
+namespace {
+
+double t1_l5_twist_deg(const SpinePose& p) {
+  const Eigen::Quaterniond rel = p[kWaistIndex].q.conjugate() * p[kNeckIndex].q;
+  return 2.0 * std::atan2(rel.y(), rel.w()) * 180.0 / M_PI;
+}
+
+}  // namespace
+
 Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Posture>& truth, bool include_init) {
   std::map<std::uint64_t, const Posture*> by_seq;
   for (const auto& p : estimate) by_seq[p.seq] = &p;
 
   Evaluation e;
-  std::vector<double> neck, waist, all;
+  std::vector<double> neck, waist, all, twist;
   std::array<std::vector<double>, 3> neck_axis, waist_axis;
   std::array<std::vector<double>, kVertebraCount> level;
   std::array<std::array<std::vector<double>, 3>, kVertebraCount> level_axis;
@@ -56,6 +67,14 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
       waist_axis[a].push_back(std::abs(dw[a]));
     }
     if (p->vertebrae) {
+      const double true_twist = t1_l5_twist_deg(*t.vertebrae), published = t1_l5_twist_deg(*p->vertebrae);
+      twist.push_back(std::abs(published - true_twist));
+      const bool unresolved = p->fit.flag == kTwistUnresolvedFlag;
+      e.twist_unresolved_frames += unresolved;
+      if (std::abs(true_twist) >= 15) {
+        ++e.twisted_frames;
+        e.twisted_published_untwisted += !unresolved && std::abs(published) <= 10;
+      }
       for (std::size_t i = 0; i < kVertebraCount; ++i) {
         const Eigen::Vector3d d = (*p->vertebrae)[i].body_center - (*t.vertebrae)[i].body_center;
         level[i].push_back(d.norm());
@@ -67,6 +86,7 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
   e.neck = summarise(neck);
   e.waist = summarise(waist);
   e.all_vertebrae = summarise(all);
+  e.twist = summarise(twist);
   for (int a = 0; a < 3; ++a) {
     e.neck_axis[a] = summarise(neck_axis[a]);
     e.waist_axis[a] = summarise(waist_axis[a]);
@@ -89,6 +109,10 @@ std::string format_evaluation(const Evaluation& e) {
   line("neck", e.neck);
   line("waist", e.waist);
   line("vertebrae", e.all_vertebrae);
+  out += fmt::format("  {:<10} {:>8.1f} {:>8.1f} {:>8.1f}   (T1 vs L5 axial twist, degrees)\n", "twist", e.twist.mean,
+                     e.twist.p95, e.twist.max);
+  out += fmt::format("true twist 15 deg or more: {} frames, {} published within 10 deg unflagged; {} frames flagged twist_unresolved\n",
+                     e.twisted_frames, e.twisted_published_untwisted, e.twist_unresolved_frames);
   const char* axes[] = {"x (ant)", "y (sup)", "z (right)"};
   out += "per axis |Δ|     neck mean/p95      waist mean/p95\n";
   for (int a = 0; a < 3; ++a)

@@ -6,6 +6,7 @@
 // tracking is lost.
 #include <memory>
 #include <optional>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -57,6 +58,10 @@ struct CvsmResult {
   // Whether neck, waist and vertebrae hold a fit: not while the background
   // is learnt (state init) nor with no person (state lost).
   bool estimated = false;
+  // When the fit settled on an axial twist of 6° or more: how many more
+  // XOR pixels (on the search's rows) the mirrored twist scored. Below the
+  // tracker's margin the sign is not resolved: fit.flag "twist_unresolved".
+  std::optional<std::int64_t> twist_sign_margin_px;
   bool valid() const { return state != TrackingState::Lost; }
 };
 

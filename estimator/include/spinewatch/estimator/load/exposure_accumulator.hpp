@@ -50,6 +50,7 @@ class ExposureAccumulator {
     InclinationZone zone = InclinationZone::Upright;
     double inclination_deg = 0;
     bool lateral_over = false, twist_over = false;
+    bool twist_unresolved = false;  // fit.flag "twist_unresolved"
     int reba = 1, rula = 1;
     std::optional<double> compression_n;
     bool started = false;  // its first segment was credited (entries counted)

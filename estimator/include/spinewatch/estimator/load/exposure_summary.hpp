@@ -55,6 +55,11 @@ struct ExposureSummary {
 
   double bend_twist_limit_deg = 0;  // the limit both are counted against
   BeyondLimit lateral_bend, axial_twist;
+  // Tracked time whose axial twist the fit could not resolve (fit.flag
+  // "twist_unresolved": its sign unknown). Its magnitude is what over_s and
+  // entries counted, as for the rest; this says how much of axial_twist
+  // rests on it (docs/exposure.md, "Known limits").
+  double twist_unresolved_s = 0;
 
   // Holds in the 20–60° zone longer than inclination_max_hold_s.
   double hold_limit_s = 0;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "spinewatch/estimator/spine/spine_model.hpp"
 
@@ -15,6 +16,12 @@ namespace spinewatch {
 struct SpineTargets {
   Eigen::Vector3d neck = Eigen::Vector3d::Zero(), waist = Eigen::Vector3d::Zero();  // T1 and L5 body centres, mm
   std::optional<Eigen::Vector3d> neck_dir, waist_dir;  // unit, T1 / L5 local +Y in world
+  // Whole end orientations (T1 / L5), when the rough fit resolves the axial
+  // twist: the end is then turned onto this one, its twist included, and
+  // the torsion springs spread T1's twist against L5 over the levels. Its
+  // +Y axis replaces neck_dir / waist_dir. Without one the end keeps the
+  // twist it had at reset().
+  std::optional<Eigen::Quaterniond> neck_q, waist_q;
 };
 
 struct DynamicsOptions {
@@ -28,7 +35,8 @@ struct DynamicsOptions {
   int max_iterations = 200;          // settle(): phase-1/phase-2 rounds before giving up
   // Virtual end torques toward neck_dir / waist_dir. The twist about those
   // directions is not observable from them, so an end keeps the twist it had
-  // at reset(); without a direction only that twist is held.
+  // at reset() unless neck_q / waist_q give it; without a direction only
+  // that twist is held.
   double direction_stiffness_nm_per_rad = 2000;
   bool gravity = true;
   // Scale on each joint's rotational spring (fit-spine writes these).

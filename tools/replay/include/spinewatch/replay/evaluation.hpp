@@ -26,6 +26,12 @@ struct Evaluation {
   std::array<ErrorStats, 3> neck_axis, waist_axis;         // |Δx|, |Δy|, |Δz|
   std::array<ErrorStats, kVertebraCount> per_level;        // 3D distance
   std::array<std::array<ErrorStats, 3>, kVertebraCount> per_level_axis;
+  // Axial twist of T1 against L5 (swing-twist about the vertical), degrees:
+  // |published − true|, over the estimated frames; and of the frames whose
+  // true twist is 15° or more, how many were tracked as within 10° without
+  // the twist_unresolved flag (a confident untwisted posture).
+  ErrorStats twist;
+  std::size_t twisted_frames = 0, twisted_published_untwisted = 0, twist_unresolved_frames = 0;
 };
 
 // `include_init`: count provisional postures of the init state as estimates.
