@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/capture/fake_v4l2_device.hpp"
+#include "test_support.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/sync/fake_trigger_line.hpp"
 
@@ -92,6 +93,50 @@ TEST(CameraPairSource, StopWakesABlockedNext) {
   }
   EXPECT_LT(std::chrono::steady_clock::now() - t0, 2s);
   stopper.join();
+}
+
+// A camera unplugged mid-stream: one camera_lost marker where the gap
+// begins, then pairs again from the same source (no restart of anything
+// above the camera), and the counters say what happened.
+TEST(CameraPairSource, AnUnpluggedCameraIsMarkedOnceAndPairsResume) {
+  spdlog::set_level(spdlog::level::off);
+  FakeV4l2Script unplugging;
+  unplugging.unplug_after = 6;
+  unplugging.reopen_failures = 1;
+  auto o = fake_options();
+  o.lateral.retry_initial = 20ms;
+  auto side = fake_camera("/dev/video-side", unplugging);
+  auto source = open_camera_pair_source(o, fake_camera("/dev/video-front"), side);
+  ASSERT_TRUE(source.ok()) << source.error().message;
+  int pairs_before = 0, markers = 0, pairs_after = 0;
+  std::optional<std::int64_t> previous;
+  const auto deadline = std::chrono::steady_clock::now() + test::scaled(20s);
+  while (pairs_after < 8 && std::chrono::steady_clock::now() < deadline) {
+    auto pair = (*source)->next();
+    ASSERT_TRUE(pair);
+    if (pair->camera_lost) {
+      ++markers;
+      EXPECT_TRUE(pair->frontal.bytes().empty());
+      EXPECT_GT(pair->timestamp_ns, previous.value_or(0));
+    } else if (markers == 0) {
+      ++pairs_before;
+    } else {
+      ++pairs_after;
+      // The lateral camera's frames after the loss are fresh ones: pairs go on in time.
+      EXPECT_GT(pair->timestamp_ns, previous.value_or(0));
+    }
+    previous = pair->timestamp_ns;
+  }
+  const SourceStats stats = (*source)->stats();
+  (*source)->stop();
+  spdlog::set_level(spdlog::level::info);
+  EXPECT_GE(pairs_before, 3);
+  EXPECT_EQ(markers, 1);
+  EXPECT_EQ(pairs_after, 8);
+  EXPECT_EQ(stats.camera[1].losses, 1u);
+  EXPECT_EQ(stats.camera[1].restarts, 1u);
+  EXPECT_EQ(stats.camera[0].losses, 0u);
+  EXPECT_GT(stats.frames_lost, 0u);  // the frontal frames that had no partner meanwhile
 }
 
 // Edges the trigger reported, as the test saw them.

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/sync/frame_pairer.hpp"
 
 namespace spinewatch {
@@ -16,6 +17,10 @@ namespace {
 // driver's buffers: a camera with 4 mmap buffers must never wait for a
 // partner that stalls, a trigger that stopped or a busy pipeline (the
 // pairer may hold 16 frames per camera).
+// How long a capture thread waits for a frame before it looks at the
+// camera's loss counter again.
+constexpr std::chrono::milliseconds kLossCheck{200};
+
 Frame detached(const Frame& frame) { return Frame::copy_of(frame.format(), frame.info(), frame.bytes()); }
 
 class CameraPairSource final : public PairSource {
@@ -81,7 +86,7 @@ class CameraPairSource final : public PairSource {
     for (int i = 0; i < 2; ++i) {
       const CameraCounters c = cameras_[i]->counters();
       out.frames_lost += c.dropped_error;
-      out.camera[i] = {.frames = c.frames, .restarts = c.restarts};
+      out.camera[i] = {.frames = c.frames, .restarts = c.restarts, .losses = c.losses};
     }
     return out;
   }
@@ -91,9 +96,22 @@ class CameraPairSource final : public PairSource {
  private:
   void capture(int index) {
     auto& camera = *cameras_[index];
+    std::uint64_t losses_seen = camera.counters().losses;
     for (;;) {
-      auto frame = camera.next(std::chrono::milliseconds(-1));
-      if (!frame) return;  // stopped
+      // A bounded wait, so that a loss is marked while the device is away
+      // (the camera reopens it by itself, inside next()).
+      auto frame = camera.next(kLossCheck);
+      if (const std::uint64_t losses = camera.counters().losses; losses != losses_seen) {
+        losses_seen = losses;
+        std::lock_guard lock(mutex_);
+        if (stopped_) return;
+        mark_camera_lost();
+      }
+      if (!frame) {
+        std::lock_guard lock(mutex_);
+        if (stopped_) return;
+        continue;  // timeout, or a camera that is away
+      }
       Frame copy = detached(*frame);
       frame.reset();  // the buffer goes back to the driver now
       std::lock_guard lock(mutex_);
@@ -103,16 +121,27 @@ class CameraPairSource final : public PairSource {
     }
   }
 
+  // With mutex_ held: one marker per loss, in order with the pairs.
+  void mark_camera_lost() {
+    FramePair marker;
+    marker.timestamp_ns = monotonic_now_ns();
+    marker.camera_lost = true;
+    push_ready(std::move(marker));
+  }
+
+  // With mutex_ held.
+  void push_ready(FramePair pair) {
+    if (ready_.size() >= ready_limit_) {
+      ready_.pop_front();
+      ++pairs_overflowed_;
+    }
+    ready_.push_back(std::move(pair));
+    ready_cv_.notify_one();
+  }
+
   // With mutex_ held.
   void queue_pairs() {
-    while (auto pair = pairer_.pop()) {
-      if (ready_.size() >= ready_limit_) {
-        ready_.pop_front();
-        ++pairs_overflowed_;
-      }
-      ready_.push_back(std::move(*pair));
-      ready_cv_.notify_one();
-    }
+    while (auto pair = pairer_.pop()) push_ready(std::move(*pair));
   }
 
   const std::size_t ready_limit_;
