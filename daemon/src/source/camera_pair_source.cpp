@@ -158,7 +158,7 @@ class CameraPairSource final : public PairSource {
 };
 
 TriggerFactory default_trigger(const CameraPairOptions& options) {
-  if (options.trigger.mode == "free-run") return {};
+  if (options.trigger.mode == sync::TriggerMode::FreeRun) return {};
   return [trigger = options.trigger](sync::TriggerSource::EdgeCallback on_edge) {
     return sync::TriggerSource::open(trigger, std::move(on_edge));
   };
@@ -167,7 +167,7 @@ TriggerFactory default_trigger(const CameraPairOptions& options) {
 }  // namespace
 
 sync::PairerOptions pairer_options(const CameraPairOptions& options) {
-  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != "free-run"};
+  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != sync::TriggerMode::FreeRun};
   p.frame_latency_ns[0] = p.frame_latency_ns[1] = options.frame_latency_ns;
   return p;
 }
@@ -177,7 +177,7 @@ CameraPairOptions camera_pair_options(const Config& config) {
     V4l2CameraOptions o;
     o.path = path;
     o.name = name;
-    o.pixel_format = parse_pixel_format(config.cameras.pixel_format).value_or(PixelFormat::YUYV);
+    o.pixel_format = config.cameras.pixel_format;
     o.width = static_cast<std::uint32_t>(config.cameras.width);
     o.height = static_cast<std::uint32_t>(config.cameras.height);
     o.fps = config.cameras.fps;

@@ -12,6 +12,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -88,7 +90,7 @@ TEST(Daemon, CameraUnpluggedAndBackIsMarkedOnceAndPairingResumes) {
   o.frontal.name = "frontal";
   o.lateral.path = lateral;
   o.lateral.name = "lateral";
-  o.trigger.mode = "free-run";
+  o.trigger.mode = sync::TriggerMode::FreeRun;
   auto source = open_camera_pair_source(o);
   ASSERT_TRUE(source.ok()) << source.error().message;
 
@@ -142,6 +144,20 @@ TEST(Daemon, CameraUnpluggedAndBackIsMarkedOnceAndPairingResumes) {
   // Logged once each way, however many reopen attempts it took.
   EXPECT_EQ(count_containing(log, "lateral: device lost"), 1u);
   EXPECT_EQ(count_containing(log, "lateral: device back"), 1u);
+}
+
+// The libcamera path (LibcameraCamera counts Camera::disconnected as a
+// loss; the pair source marks it as above) needs a camera libcamera can
+// drive in the guest: vimc. Debian's 6.1 kernel is built without it
+// (CONFIG_VIDEO_VIMC is not set: drivers/media/test-drivers holds vivid
+// only), and libcamera has no pipeline handler for vivid. Registered so
+// that the gap is visible in every run, and so that a guest kernel that
+// has vimc makes this test fail until it is written.
+TEST(Daemon, LibcameraDisconnectUnderVimc) {
+  if (!std::filesystem::exists("/sys/bus/platform/drivers/vimc") && !std::filesystem::exists("/sys/module/vimc"))
+    GTEST_SKIP() << "no vimc in the guest kernel (Debian's linux-image 6.1 ships no vimc module; libcamera cannot "
+                    "drive vivid): LibcameraCamera's disconnect handling is not tested against a kernel";
+  FAIL() << "vimc is loaded: the libcamera disconnect test is to be written for it";
 }
 
 }  // namespace
