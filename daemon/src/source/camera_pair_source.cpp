@@ -3,6 +3,7 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -121,16 +122,20 @@ class CameraPairSource final : public PairSource {
     }
   }
 
-  // With mutex_ held: one marker per loss, in order with the pairs.
+  // With mutex_ held: one marker per loss, in order with the pairs. Its
+  // time is the last pair's: the gap begins after it, and t_ns never goes
+  // back in the stream (frames still in the pairer may pair after the
+  // marker, and they are older than the moment the loss was seen).
   void mark_camera_lost() {
     FramePair marker;
-    marker.timestamp_ns = monotonic_now_ns();
+    marker.timestamp_ns = last_pair_ns_ ? *last_pair_ns_ : monotonic_now_ns();
     marker.camera_lost = true;
     push_ready(std::move(marker));
   }
 
   // With mutex_ held.
   void push_ready(FramePair pair) {
+    if (!pair.camera_lost) last_pair_ns_ = pair.timestamp_ns;
     if (ready_.size() >= ready_limit_) {
       ready_.pop_front();
       ++pairs_overflowed_;
@@ -151,6 +156,7 @@ class CameraPairSource final : public PairSource {
   sync::FramePairer pairer_;
   std::deque<FramePair> ready_;
   std::uint64_t pairs_overflowed_ = 0;
+  std::optional<std::int64_t> last_pair_ns_;  // of the last pair queued
   bool stopped_ = false;
   std::string description_;
   std::unique_ptr<sync::TriggerSource> trigger_;  // null in free-run
