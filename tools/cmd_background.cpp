@@ -97,8 +97,6 @@ Status from_recording(const BackgroundOptions& o, SceneCapture& capture) {
 }
 
 Status from_cameras(const BackgroundOptions& o, const Config& config, SceneCapture& capture) {
-  if (!parse_pixel_format(config.cameras.pixel_format))
-    return Error{fmt::format("cameras.pixel_format: {} is not YUYV or GREY", config.cameras.pixel_format)};
   // The cameras as the daemon opens them, on the devices given here if any.
   const CameraPairOptions pair = camera_pair_options(config);
   V4l2CameraOptions views[2] = {pair.frontal, pair.lateral};

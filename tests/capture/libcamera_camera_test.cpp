@@ -35,7 +35,7 @@ TEST(LibcameraCamera, UnknownIdIsAnErrorNamingIt) {
 // that is not there stops the start with the id in the message.
 TEST(LibcameraCamera, DaemonSourceNamesTheMissingCamera) {
   Config config;
-  config.cameras.source = "libcamera";
+  config.cameras.source = CameraSource::Libcamera;
   config.cameras.frontal = "no-such-frontal";
   config.cameras.lateral = "no-such-lateral";
   auto source = open_libcamera_pair_source(config);

@@ -2,6 +2,9 @@
 
 #include <regex>
 #include <set>
+#include <tuple>
+
+#include <fmt/format.h>
 
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
@@ -73,6 +76,51 @@ TEST(Config, EnumValueOutsideTheSet) {
   auto c = parse_config("[trigger]\nmode = \"sometimes\"\n", "station.toml");
   ASSERT_FALSE(c.ok());
   EXPECT_EQ(c.error().message, "station.toml:2: trigger.mode: \"sometimes\" is not one of: free-run, master, slave");
+}
+
+// Every mode is parsed once, at load, into its enum; code switches on the
+// enum. Each name gives its value, and any other text is refused naming
+// key and line.
+TEST(Config, ModesAreParsedOnceIntoEnums) {
+  auto parse = [](const std::string& section, const std::string& key, const std::string& value) {
+    return parse_config("[" + section + "]\n" + key + " = \"" + value + "\"\n", "s.toml");
+  };
+  const Config defaults = *parse_config("", "s.toml");
+  EXPECT_EQ(defaults.cameras.source, CameraSource::Auto);
+  EXPECT_EQ(defaults.cameras.replay, ReplayPace::Paced);
+  EXPECT_EQ(defaults.cameras.pixel_format, PixelFormat::YUYV);
+  EXPECT_EQ(defaults.trigger.mode, sync::TriggerMode::FreeRun);
+  EXPECT_EQ(defaults.silhouette.background, BackgroundMode::Learn);
+  EXPECT_EQ(defaults.subject.spine_placement, SpinePlacementMode::Measured);
+  for (auto [text, mode] : {std::pair{"auto", CameraSource::Auto}, {"v4l2", CameraSource::V4l2},
+                            {"libcamera", CameraSource::Libcamera}, {"recording", CameraSource::Recording}}) {
+    EXPECT_EQ(parse("cameras", "source", text)->cameras.source, mode) << text;
+    EXPECT_EQ(to_string(mode), text);
+  }
+  EXPECT_EQ(parse("cameras", "replay", "fast")->cameras.replay, ReplayPace::Fast);
+  EXPECT_EQ(to_string(ReplayPace::Fast), "fast");
+  EXPECT_EQ(parse("cameras", "pixel_format", "GREY")->cameras.pixel_format, PixelFormat::GREY);
+  EXPECT_EQ(parse("trigger", "mode", "master")->trigger.mode, sync::TriggerMode::Master);
+  EXPECT_EQ(parse("trigger", "mode", "slave")->trigger.mode, sync::TriggerMode::Slave);
+  EXPECT_EQ(parse("silhouette", "background", "image")->silhouette.background, BackgroundMode::Image);
+  EXPECT_EQ(parse("silhouette", "background", "threshold")->silhouette.background, BackgroundMode::Threshold);
+  EXPECT_EQ(parse("subject", "spine_placement", "generic")->subject.spine_placement, SpinePlacementMode::Generic);
+  // A mode's name is case-sensitive and exact.
+  for (auto [section, key, bad, names] :
+       {std::tuple{"cameras", "source", "V4L2", "auto, v4l2, libcamera, recording"},
+        {"cameras", "replay", "slow", "paced, fast"},
+        {"cameras", "pixel_format", "MJPG", "YUYV, GREY"},
+        {"trigger", "mode", "free-run ", "free-run, master, slave"},
+        {"silhouette", "background", "Learn", "learn, image, threshold"},
+        {"subject", "spine_placement", "ansur", "measured, generic"}}) {
+    auto r = parse(section, key, bad);
+    ASSERT_FALSE(r.ok()) << key;
+    EXPECT_EQ(r.error().message,
+              fmt::format("s.toml:2: {}.{}: \"{}\" is not one of: {}", section, key, bad, names));
+  }
+  auto wrong_type = parse_config("[cameras]\nsource = 4\n", "s.toml");
+  ASSERT_FALSE(wrong_type.ok());
+  EXPECT_EQ(wrong_type.error().message, "s.toml:2: cameras.source: expected a string, got integer");
 }
 
 TEST(Config, SyntaxErrorNamesLine) {

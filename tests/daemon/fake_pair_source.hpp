@@ -17,6 +17,7 @@ class FakePairSource final : public PairSource {
     std::uint64_t count = 100;  // pairs before the end; 0: block after none (until stop)
     std::uint64_t lap = 0;      // numbering restarts every `lap` pairs (0: never)
     std::uint32_t width = 320, height = 240;
+    std::uint64_t camera_lost_at = 0;  // a camera_lost marker before this pair (0: none)
   };
   explicit FakePairSource(Options options) : options_(options) {}
 
@@ -27,6 +28,13 @@ class FakePairSource final : public PairSource {
       std::unique_lock lock(mutex_);
       stop_cv_.wait(lock, [&] { return stopped_.load(); });
       return std::nullopt;
+    }
+    if (options_.camera_lost_at != 0 && produced_ == options_.camera_lost_at && !marked_) {
+      marked_ = true;
+      FramePair marker;
+      marker.timestamp_ns = static_cast<std::int64_t>(1'000'000'000 + produced_ * 33'333'333 - 1);
+      marker.camera_lost = true;
+      return marker;
     }
     const std::uint64_t i = produced_++;
     const std::uint64_t own_seq = options_.lap ? i % options_.lap : i;
@@ -58,6 +66,7 @@ class FakePairSource final : public PairSource {
  private:
   Options options_;
   std::uint64_t produced_ = 0;
+  bool marked_ = false;
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<bool> stopped_{false};
   std::mutex mutex_;

@@ -72,7 +72,7 @@ DaemonMetrics sample_metrics() {
   m.pipeline.pair_queue_capacity = 4;
   m.pipeline.source.frames = 2010;
   m.pipeline.source.frames_lost = 10;
-  m.pipeline.source.camera[0] = {.frames = 1004, .restarts = 1};
+  m.pipeline.source.camera[0] = {.frames = 1004, .restarts = 1, .losses = 2};
   m.pipeline.source.camera[1] = {.frames = 1006, .restarts = 0};
   m.publisher.clients = 3;
   m.publisher.clients_dropped = 2;
@@ -123,6 +123,8 @@ TEST(MetricsText, ParsesWithPrometheusClientAndCarriesTheCounters) {
   EXPECT_EQ(s.at("spinewatch_frames_total{camera=\"frontal\"}"), 1004);
   EXPECT_EQ(s.at("spinewatch_frames_total{camera=\"lateral\"}"), 1006);
   EXPECT_EQ(s.at("spinewatch_camera_restarts_total{camera=\"frontal\"}"), 1);
+  EXPECT_EQ(s.at("spinewatch_camera_losses_total{camera=\"frontal\"}"), 2);
+  EXPECT_EQ(s.at("spinewatch_camera_losses_total{camera=\"lateral\"}"), 0);
   EXPECT_EQ(s.at("spinewatch_postures_total{state=\"tracking\"}"), 950);
   EXPECT_EQ(s.at("spinewatch_tracking_lost_total{}"), 4);
   EXPECT_EQ(s.at("spinewatch_background_events_total{event=\"bootstrap\"}"), 2);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -103,6 +104,30 @@ TEST(Pipeline, AnEstimatorExceptionBecomesALostPosture) {
   EXPECT_EQ(out.postures[2].seq, 2u);
   EXPECT_EQ(out.postures[2].fit.flag, "estimator_error");
   EXPECT_EQ(out.postures[3].state, TrackingState::Init);
+}
+
+TEST(Pipeline, ACameraLossIsOneLostLineFlaggedCameraLostThatTheEstimatorNeverSees) {
+  Collected out;
+  std::atomic<int> estimated{0};
+  auto counting = [&](const FramePair& pair) {
+    EXPECT_FALSE(pair.camera_lost);
+    ++estimated;
+    return test::lost_posture(pair);
+  };
+  Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 6, .camera_lost_at = 3}),
+                    counting, [&](const Posture& p) { out.add(p); }, {.lossless = true});
+  pipeline.start();
+  ASSERT_TRUE(test::eventually([&] { return out.size() == 7; }));
+  pipeline.stop();
+  EXPECT_EQ(estimated.load(), 6);
+  for (std::size_t i = 0; i < out.postures.size(); ++i) EXPECT_EQ(out.postures[i].seq, i);
+  const Posture& gap = out.postures[3];
+  EXPECT_EQ(gap.state, TrackingState::Lost);
+  EXPECT_EQ(gap.fit.flag, "camera_lost");
+  EXPECT_FALSE(gap.vertebrae);
+  EXPECT_GT(gap.t_ns, out.postures[2].t_ns);
+  EXPECT_LT(gap.t_ns, out.postures[4].t_ns);
+  EXPECT_EQ(pipeline.stats().pairs, 6u);  // the marker is not a pair
 }
 
 TEST(BoundedQueue, DropsOldestWhenFull) {

@@ -72,7 +72,7 @@ struct LibcameraCamera::State {
   std::atomic<bool> running{false};  // requests may be queued
 
   std::optional<unsigned> last_sequence;  // next()'s thread only
-  std::atomic<std::uint64_t> frames{0}, dropped_error{0}, dropped_gap{0};
+  std::atomic<std::uint64_t> frames{0}, dropped_error{0}, dropped_gap{0}, losses{0};
 
   ~State() {
     // Last lease gone: requests before the buffers they hold, buffers before the camera.
@@ -91,6 +91,17 @@ struct LibcameraCamera::State {
       completed.push_back(request);
     }
     ready.notify_one();
+  }
+
+  // libcamera's thread: the device went away (unplugged, its driver unbound).
+  // libcamera does not give a camera back once disconnected (a new Camera is
+  // announced by cameraAdded instead), so this camera delivers nothing more:
+  // counted and logged once here; the consumer sees `losses` grow and marks
+  // the gap (the daemon's pair source publishes it as a lost line).
+  void on_disconnected() {
+    running.store(false);  // no request goes back to a camera that is gone
+    losses.fetch_add(1);
+    spdlog::error("{}: camera disconnected; it delivers no more frames until the daemon reopens it", name);
   }
 
   // When a frame's last copy goes: the buffer is free, the request goes back to the camera.
@@ -112,6 +123,7 @@ struct LibcameraCamera::State {
     if (started) {
       camera->stop();
       camera->requestCompleted.disconnect(this);
+      camera->disconnected.disconnect(this);
       started = false;
     }
   }
@@ -257,10 +269,12 @@ Status LibcameraCamera::start() {
   if (auto m = s.map_buffers(); !m) return m;
   const libcamera::ControlList controls = s.start_controls();
   s.camera->requestCompleted.connect(state_.get(), &State::on_complete);
+  s.camera->disconnected.connect(state_.get(), &State::on_disconnected);
   s.running.store(true);
   if (const int err = s.camera->start(&controls); err < 0) {
     s.running.store(false);
     s.camera->requestCompleted.disconnect(state_.get());
+    s.camera->disconnected.disconnect(state_.get());
     return Error{fmt::format("{}: cannot start: {}", s.name, std::strerror(-err))};
   }
   s.started = true;
@@ -320,6 +334,7 @@ CameraCounters LibcameraCamera::counters() const {
   c.frames = state_->frames.load();
   c.dropped_error = state_->dropped_error.load();
   c.dropped_gap = state_->dropped_gap.load();
+  c.losses = state_->losses.load();
   return c;
 }
 

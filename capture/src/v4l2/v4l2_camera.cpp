@@ -77,6 +77,7 @@ void V4l2Camera::stop() {
 
 void V4l2Camera::lose_device(const std::string& why) {
   spdlog::error("{}: device lost ({}); reopening with backoff", name_, why);
+  losses_.fetch_add(1);
   session_->shutdown();
   session_.reset();
   streaming_.store(false);
@@ -175,7 +176,7 @@ std::optional<Frame> V4l2Camera::next(std::chrono::milliseconds timeout) {
 }
 
 CameraCounters V4l2Camera::counters() const {
-  return {frames_.load(), dropped_error_.load(), dropped_gap_.load(), restarts_.load(), stalls_.load()};
+  return {frames_.load(), dropped_error_.load(), dropped_gap_.load(), restarts_.load(), stalls_.load(), losses_.load()};
 }
 
 FrameFormat V4l2Camera::format() const {

@@ -77,7 +77,7 @@ Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan, std::st
 // background = "image", the daemon refuses to start.
 Result<std::optional<BackgroundImages>> load_background(const Config& config, const SourcePlan& plan) {
   const Config::Silhouette& s = config.silhouette;
-  if (s.background == "threshold") return std::optional<BackgroundImages>{};
+  if (s.background == BackgroundMode::Threshold) return std::optional<BackgroundImages>{};
   int width = config.cameras.width, height = config.cameras.height;
   if (plan.kind == SourcePlan::Kind::Recording) {
     auto reader = RecordingReader::open(plan.recording);
@@ -100,7 +100,7 @@ Result<std::optional<BackgroundImages>> load_background(const Config& config, co
     spdlog::info("background: {} and {}", s.background_frontal, s.background_lateral);
     return std::optional<BackgroundImages>(std::move(images).value());
   }
-  if (s.background == "image")
+  if (s.background == BackgroundMode::Image)
     return Error{"silhouette.background = \"image\" needs silhouette.background_frontal and background_lateral "
                  "(capture them with `spinewatch background --out DIR`)"};
   spdlog::info("background: none stored; learnt from the first frames of an empty scene, or bootstrapped when "
@@ -535,7 +535,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto plan = plan_source(d.config);
   if (!plan) return plan.error();
   spdlog::info("source: {}", plan->why);
-  const bool use_libcamera = plan->kind == SourcePlan::Kind::Cameras && d.config.cameras.source == "libcamera";
+  const bool use_libcamera = plan->kind == SourcePlan::Kind::Cameras && d.config.cameras.source == CameraSource::Libcamera;
   if (use_libcamera && !libcamera_built())
     return Error{"cameras.source = \"libcamera\": not available in this build; use \"v4l2\""};
   if (plan->embedded)
@@ -648,13 +648,13 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
                         .source = d.source_name,
                         .calibration = calibration_used.empty() ? "default rig" : calibration_used,
                         .default_rig = calibration_used.empty(),
-                        .background_mode = d.config.silhouette.background,
-                        .relearn_available = d.config.silhouette.background == "learn",
+                        .background_mode = std::string(to_string(d.config.silhouette.background)),
+                        .relearn_available = d.config.silhouette.background == BackgroundMode::Learn,
                         .fps = h.fps,
                         .camera_pixels = h.camera_pixels};
     HttpHandlers handlers{.metrics = [&d] { return d.metrics(); },
                           .relearn_background = [&d] {
-                            if (d.config.silhouette.background != "learn") return false;
+                            if (d.config.silhouette.background != BackgroundMode::Learn) return false;
                             spdlog::info("http: background re-learning requested");
                             d.relearn_requested.store(true);
                             return true;

@@ -81,6 +81,9 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_camera_restarts_total", "counter", "Cameras reopened after a device loss, per camera.")
       .sample(p.source.camera[0].restarts, kCamera[0])
       .sample(p.source.camera[1].restarts, kCamera[1]);
+  Family(out, "spinewatch_camera_losses_total", "counter", "Times a camera went away (unplugged, disconnected), per camera.")
+      .sample(p.source.camera[0].losses, kCamera[0])
+      .sample(p.source.camera[1].losses, kCamera[1]);
   Family(out, "spinewatch_postures_total", "counter", "Postures published, by tracking state.")
       .sample(m.postures.by_state[0], "state=\"init\"")
       .sample(m.postures.by_state[1], "state=\"tracking\"")

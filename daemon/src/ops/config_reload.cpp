@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <sstream>
+#include <type_traits>
 
 namespace spinewatch {
 namespace {
@@ -14,7 +15,10 @@ struct Field {
 template <class T>
 std::string text(const T& v) {
   std::ostringstream s;
-  s << v;
+  if constexpr (std::is_enum_v<T>)
+    s << static_cast<int>(v);  // a mode: compared, never shown
+  else
+    s << v;
   return s.str();
 }
 

@@ -35,7 +35,7 @@ void Pipeline::run_source() {
   std::uint64_t seq = 0;
   while (auto pair = source_->next()) {
     pair->sequence = seq++;
-    pairs_.fetch_add(1, std::memory_order_relaxed);
+    if (!pair->camera_lost) pairs_.fetch_add(1, std::memory_order_relaxed);
     Queued item{std::move(*pair), monotonic_now_ns()};
     if (lossless_) {
       if (!queue_.push_waiting(std::move(item))) break;
@@ -51,7 +51,13 @@ void Pipeline::run_estimator() {
   while (auto item = queue_.pop()) {
     Posture posture;
     try {
-      posture = estimate_(item->pair);
+      if (item->pair.camera_lost) {
+        // Not a pair: a camera went away here. One lost line marks the gap.
+        posture.state = TrackingState::Lost;
+        posture.fit.flag = "camera_lost";
+      } else {
+        posture = estimate_(item->pair);
+      }
     } catch (const std::exception& e) {
       // A bug in one stage must not take the station down; report the pair lost.
       spdlog::error("estimator failed on pair {}: {}", item->pair.sequence, e.what());

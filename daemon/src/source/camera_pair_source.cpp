@@ -3,10 +3,12 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
 
+#include "spinewatch/frames/clock.hpp"
 #include "spinewatch/sync/frame_pairer.hpp"
 
 namespace spinewatch {
@@ -16,6 +18,10 @@ namespace {
 // driver's buffers: a camera with 4 mmap buffers must never wait for a
 // partner that stalls, a trigger that stopped or a busy pipeline (the
 // pairer may hold 16 frames per camera).
+// How long a capture thread waits for a frame before it looks at the
+// camera's loss counter again.
+constexpr std::chrono::milliseconds kLossCheck{200};
+
 Frame detached(const Frame& frame) { return Frame::copy_of(frame.format(), frame.info(), frame.bytes()); }
 
 class CameraPairSource final : public PairSource {
@@ -81,7 +87,7 @@ class CameraPairSource final : public PairSource {
     for (int i = 0; i < 2; ++i) {
       const CameraCounters c = cameras_[i]->counters();
       out.frames_lost += c.dropped_error;
-      out.camera[i] = {.frames = c.frames, .restarts = c.restarts};
+      out.camera[i] = {.frames = c.frames, .restarts = c.restarts, .losses = c.losses};
     }
     return out;
   }
@@ -91,9 +97,22 @@ class CameraPairSource final : public PairSource {
  private:
   void capture(int index) {
     auto& camera = *cameras_[index];
+    std::uint64_t losses_seen = camera.counters().losses;
     for (;;) {
-      auto frame = camera.next(std::chrono::milliseconds(-1));
-      if (!frame) return;  // stopped
+      // A bounded wait, so that a loss is marked while the device is away
+      // (the camera reopens it by itself, inside next()).
+      auto frame = camera.next(kLossCheck);
+      if (const std::uint64_t losses = camera.counters().losses; losses != losses_seen) {
+        losses_seen = losses;
+        std::lock_guard lock(mutex_);
+        if (stopped_) return;
+        mark_camera_lost();
+      }
+      if (!frame) {
+        std::lock_guard lock(mutex_);
+        if (stopped_) return;
+        continue;  // timeout, or a camera that is away
+      }
       Frame copy = detached(*frame);
       frame.reset();  // the buffer goes back to the driver now
       std::lock_guard lock(mutex_);
@@ -103,16 +122,31 @@ class CameraPairSource final : public PairSource {
     }
   }
 
+  // With mutex_ held: one marker per loss, in order with the pairs. Its
+  // time is the last pair's: the gap begins after it, and t_ns never goes
+  // back in the stream (frames still in the pairer may pair after the
+  // marker, and they are older than the moment the loss was seen).
+  void mark_camera_lost() {
+    FramePair marker;
+    marker.timestamp_ns = last_pair_ns_ ? *last_pair_ns_ : monotonic_now_ns();
+    marker.camera_lost = true;
+    push_ready(std::move(marker));
+  }
+
+  // With mutex_ held.
+  void push_ready(FramePair pair) {
+    if (!pair.camera_lost) last_pair_ns_ = pair.timestamp_ns;
+    if (ready_.size() >= ready_limit_) {
+      ready_.pop_front();
+      ++pairs_overflowed_;
+    }
+    ready_.push_back(std::move(pair));
+    ready_cv_.notify_one();
+  }
+
   // With mutex_ held.
   void queue_pairs() {
-    while (auto pair = pairer_.pop()) {
-      if (ready_.size() >= ready_limit_) {
-        ready_.pop_front();
-        ++pairs_overflowed_;
-      }
-      ready_.push_back(std::move(*pair));
-      ready_cv_.notify_one();
-    }
+    while (auto pair = pairer_.pop()) push_ready(std::move(*pair));
   }
 
   const std::size_t ready_limit_;
@@ -122,6 +156,7 @@ class CameraPairSource final : public PairSource {
   sync::FramePairer pairer_;
   std::deque<FramePair> ready_;
   std::uint64_t pairs_overflowed_ = 0;
+  std::optional<std::int64_t> last_pair_ns_;  // of the last pair queued
   bool stopped_ = false;
   std::string description_;
   std::unique_ptr<sync::TriggerSource> trigger_;  // null in free-run
@@ -129,7 +164,7 @@ class CameraPairSource final : public PairSource {
 };
 
 TriggerFactory default_trigger(const CameraPairOptions& options) {
-  if (options.trigger.mode == "free-run") return {};
+  if (options.trigger.mode == sync::TriggerMode::FreeRun) return {};
   return [trigger = options.trigger](sync::TriggerSource::EdgeCallback on_edge) {
     return sync::TriggerSource::open(trigger, std::move(on_edge));
   };
@@ -138,7 +173,7 @@ TriggerFactory default_trigger(const CameraPairOptions& options) {
 }  // namespace
 
 sync::PairerOptions pairer_options(const CameraPairOptions& options) {
-  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != "free-run"};
+  sync::PairerOptions p{.fps = options.frontal.fps, .triggered = options.trigger.mode != sync::TriggerMode::FreeRun};
   p.frame_latency_ns[0] = p.frame_latency_ns[1] = options.frame_latency_ns;
   return p;
 }
@@ -148,7 +183,7 @@ CameraPairOptions camera_pair_options(const Config& config) {
     V4l2CameraOptions o;
     o.path = path;
     o.name = name;
-    o.pixel_format = parse_pixel_format(config.cameras.pixel_format).value_or(PixelFormat::YUYV);
+    o.pixel_format = config.cameras.pixel_format;
     o.width = static_cast<std::uint32_t>(config.cameras.width);
     o.height = static_cast<std::uint32_t>(config.cameras.height);
     o.fps = config.cameras.fps;

@@ -17,7 +17,7 @@ Result<SourcePlan> embedded(const Config& config, std::string why) {
   for (const auto& dir : embedded_recording_dirs()) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(dir / "recording.json", ec)) {
-      return SourcePlan{SourcePlan::Kind::Recording, dir, true, config.cameras.replay == "paced", std::move(why)};
+      return SourcePlan{SourcePlan::Kind::Recording, dir, true, config.cameras.replay == ReplayPace::Paced, std::move(why)};
     }
     tried.push_back(dir.string());
   }
@@ -38,20 +38,24 @@ std::vector<std::filesystem::path> embedded_recording_dirs() {
 
 Result<SourcePlan> plan_source(const Config& config) {
   const auto& cameras = config.cameras;
-  if (cameras.source == "v4l2" || cameras.source == "libcamera")
-    return SourcePlan{SourcePlan::Kind::Cameras, {}, false, true, "cameras.source = \"" + cameras.source + "\""};
-  if (cameras.source == "recording") {
-    if (cameras.recording.empty()) return embedded(config, "cameras.source = \"recording\" with cameras.recording = \"\"");
-    return SourcePlan{SourcePlan::Kind::Recording, cameras.recording, false, cameras.replay == "paced",
-                      "cameras.source = \"recording\""};
+  const bool paced = cameras.replay == ReplayPace::Paced;
+  switch (cameras.source) {
+    case CameraSource::V4l2:
+    case CameraSource::Libcamera:
+      return SourcePlan{SourcePlan::Kind::Cameras, {}, false, true,
+                        fmt::format("cameras.source = \"{}\"", to_string(cameras.source))};
+    case CameraSource::Recording:
+      if (cameras.recording.empty()) return embedded(config, "cameras.source = \"recording\" with cameras.recording = \"\"");
+      return SourcePlan{SourcePlan::Kind::Recording, cameras.recording, false, paced, "cameras.source = \"recording\""};
+    case CameraSource::Auto:
+      break;
   }
-  // auto
   if (is_device_node(cameras.frontal) && is_device_node(cameras.lateral))
     return SourcePlan{SourcePlan::Kind::Cameras, {}, false, true,
                       fmt::format("cameras.source = \"auto\" and {} and {} exist", cameras.frontal, cameras.lateral)};
   const std::string why = fmt::format("cameras.source = \"auto\" and no camera at {} and {}", cameras.frontal, cameras.lateral);
   if (!cameras.recording.empty())
-    return SourcePlan{SourcePlan::Kind::Recording, cameras.recording, false, cameras.replay == "paced", why};
+    return SourcePlan{SourcePlan::Kind::Recording, cameras.recording, false, paced, why};
   return embedded(config, why);
 }
 

@@ -90,18 +90,38 @@ Key mqtt_url_key() {
           }};
 }
 
+// A mode: one of `names`, stored as its enum. The names are the only place
+// the text of a mode appears; everything after the loader switches on E.
+template <class E>
+Key enum_key(std::string name, E& (*field)(Config&), std::vector<std::pair<std::string, E>> names) {  // E given explicitly
+  return {std::move(name), [field, names = std::move(names)](Config& c, const toml::node& n) -> std::optional<std::string> {
+            if (!n.is_string()) return fmt::format("expected a string, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
+            const std::string v = *n.value<std::string>();
+            std::vector<std::string_view> allowed;
+            for (const auto& [text, value] : names) {
+              if (text == v) {
+                field(c) = value;
+                return std::nullopt;
+              }
+              allowed.push_back(text);
+            }
+            return fmt::format("\"{}\" is not one of: {}", v, fmt::join(allowed, ", "));
+          }};
+}
+
 // The one table of keys. Add a key here and in config/spinewatch.toml.
 const std::vector<Key>& keys() {
   static const std::vector<Key> table = {
       string_key("station.name", [](Config& c) -> std::string& { return c.station.name; }),
 
-      string_key("cameras.source", [](Config& c) -> std::string& { return c.cameras.source; },
-                 {"auto", "v4l2", "libcamera", "recording"}),
+      enum_key<CameraSource>("cameras.source", [](Config& c) -> CameraSource& { return c.cameras.source; },
+               {{"auto", CameraSource::Auto}, {"v4l2", CameraSource::V4l2}, {"libcamera", CameraSource::Libcamera},
+                {"recording", CameraSource::Recording}}),
       // V4L2 device nodes, or libcamera camera ids when cameras.source = "libcamera".
       string_key("cameras.frontal", [](Config& c) -> std::string& { return c.cameras.frontal; }),
       string_key("cameras.lateral", [](Config& c) -> std::string& { return c.cameras.lateral; }),
-      string_key("cameras.pixel_format", [](Config& c) -> std::string& { return c.cameras.pixel_format; },
-                 {"YUYV", "GREY"}),
+      enum_key<PixelFormat>("cameras.pixel_format", [](Config& c) -> PixelFormat& { return c.cameras.pixel_format; },
+               {{"YUYV", PixelFormat::YUYV}, {"GREY", PixelFormat::GREY}}),
       int_key("cameras.width", [](Config& c) -> int& { return c.cameras.width; }, {16, 4096}),
       int_key("cameras.height", [](Config& c) -> int& { return c.cameras.height; }, {16, 4096}),
       double_key("cameras.fps", [](Config& c) -> double& { return c.cameras.fps; }, {1.0, 120.0}),
@@ -110,19 +130,22 @@ const std::vector<Key>& keys() {
       int_key("cameras.buffers", [](Config& c) -> int& { return c.cameras.buffers; }, {4, 32}),
       string_key("cameras.calibration", [](Config& c) -> std::string& { return c.cameras.calibration; }),
       string_key("cameras.recording", [](Config& c) -> std::string& { return c.cameras.recording; }),
-      string_key("cameras.replay", [](Config& c) -> std::string& { return c.cameras.replay; }, {"paced", "fast"}),
+      enum_key<ReplayPace>("cameras.replay", [](Config& c) -> ReplayPace& { return c.cameras.replay; },
+               {{"paced", ReplayPace::Paced}, {"fast", ReplayPace::Fast}}),
       double_key("cameras.watchdog_s", [](Config& c) -> double& { return c.cameras.watchdog_s; }, {0.1, 60.0}),
 
-      string_key("trigger.mode", [](Config& c) -> std::string& { return c.trigger.mode; },
-                 {"free-run", "master", "slave"}),
+      enum_key<sync::TriggerMode>("trigger.mode", [](Config& c) -> sync::TriggerMode& { return c.trigger.mode; },
+               {{"free-run", sync::TriggerMode::FreeRun}, {"master", sync::TriggerMode::Master},
+                {"slave", sync::TriggerMode::Slave}}),
       string_key("trigger.chip", [](Config& c) -> std::string& { return c.trigger.chip; }),
       int_key("trigger.line", [](Config& c) -> int& { return c.trigger.line; }, {0, 1023}),
       int_key("trigger.pulse_us", [](Config& c) -> int& { return c.trigger.pulse_us; }, {20, 100000}),
       int_key("trigger.frame_latency_us", [](Config& c) -> int& { return c.trigger.frame_latency_us; }, {0, 100000}),
       string_key("trigger.controller", [](Config& c) -> std::string& { return c.trigger.controller; }),
 
-      string_key("silhouette.background", [](Config& c) -> std::string& { return c.silhouette.background; },
-                 {"learn", "image", "threshold"}),
+      enum_key<BackgroundMode>("silhouette.background", [](Config& c) -> BackgroundMode& { return c.silhouette.background; },
+               {{"learn", BackgroundMode::Learn}, {"image", BackgroundMode::Image},
+                {"threshold", BackgroundMode::Threshold}}),
       int_key("silhouette.learn_frames", [](Config& c) -> int& { return c.silhouette.learn_frames; }, {1, 1000}),
       int_key("silhouette.threshold", [](Config& c) -> int& { return c.silhouette.threshold; }, {1, 254}),
       int_key("silhouette.chroma_threshold", [](Config& c) -> int& { return c.silhouette.chroma_threshold; }, {0, 255}),
@@ -149,8 +172,8 @@ const std::vector<Key>& keys() {
       optional_double_key("subject.iliac_crest_height_mm", [](Config& c) -> double& { return c.subject.iliac_crest_height_mm; },
                           {500.0, 1400.0}),
       double_key("subject.height_mm", [](Config& c) -> double& { return c.subject.height_mm; }, {1000.0, 2300.0}),
-      string_key("subject.spine_placement", [](Config& c) -> std::string& { return c.subject.spine_placement; },
-                 {"measured", "generic"}),
+      enum_key<SpinePlacementMode>("subject.spine_placement", [](Config& c) -> SpinePlacementMode& { return c.subject.spine_placement; },
+               {{"measured", SpinePlacementMode::Measured}, {"generic", SpinePlacementMode::Generic}}),
 
       string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
       bool_key("publish.allow_unauthenticated", [](Config& c) -> bool& { return c.publish.allow_unauthenticated; }),
@@ -200,6 +223,22 @@ const std::vector<Key>& keys() {
   };
   return table;
 }
+
+}  // namespace
+
+std::string_view to_string(CameraSource source) {
+  switch (source) {
+    case CameraSource::Auto: return "auto";
+    case CameraSource::V4l2: return "v4l2";
+    case CameraSource::Libcamera: return "libcamera";
+    case CameraSource::Recording: return "recording";
+  }
+  return "?";
+}
+
+std::string_view to_string(ReplayPace pace) { return pace == ReplayPace::Fast ? "fast" : "paced"; }
+
+namespace {
 
 const Key* find_key(const std::string& name) {
   for (const auto& k : keys())

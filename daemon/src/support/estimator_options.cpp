@@ -25,8 +25,7 @@ EstimatorOptions estimator_options(const Config& c) {
   o.voxel_mm = c.spine.voxel_mm;
   o.worker = known_worker(c.subject);
   o.height_mm = c.subject.height_mm;
-  // The key's values are checked when the file is parsed.
-  if (auto mode = parse_spine_placement_mode(c.subject.spine_placement)) o.spine_placement = *mode;
+  o.spine_placement = c.subject.spine_placement;
   return o;
 }
 

@@ -40,6 +40,27 @@ CvsmPose to_pose(const PoseParams& a) {
 
 }  // namespace
 
+// Where the tracker stands between two pairs. Transitions (track(), no_person()):
+//   Building   --a clean pair refines the model; the subject_frames-th
+//                 completes it-->                 Tracking (fit within lost_cost)
+//                                                 or Searching (fit beyond it)
+//   Building   --no person, or a flagged pair-->  Building (nothing learnt)
+//   Searching  --global search, good fit-->       Predicting (clean pair) or Tracking (flagged pair)
+//   Tracking,
+//   Predicting --local search, good fit-->        Predicting (clean pair) or Tracking (flagged pair)
+//   Searching, Tracking,
+//   Predicting --fit beyond lost_cost-->          Searching
+//   Searching, Tracking,
+//   Predicting --no person-->                     Searching
+// Nothing leads back to Building but reset().
+enum class Phase : std::uint8_t {
+  Building,    // the subject model is not complete (init_frames < subject_frames, or none yet): state init
+  Searching,   // the model is built, the pose is not known: the next pair is searched for globally
+  Tracking,    // the last fit was good: a local search from it
+  Predicting,  // as Tracking, and the pair before was good and clean too: the local search also
+               // tries the constant-velocity prediction from `previous`
+};
+
 struct CvsmTracker::Impl {
   CameraRig rig;
   CvsmOptions opt;
@@ -51,12 +72,10 @@ struct CvsmTracker::Impl {
   std::optional<cvsm_detail::SubjectEstimate> subject;  // during init and after
   BodyModel model;
   BodyModel search_model;  // the model the tracked search compares candidates on
-  bool have_model = false;
-  int init_frames = 0;
-  bool lost = true;     // the next tracked frame needs a global search
-  CvsmPose pose, previous;
+  Phase phase = Phase::Building;
+  int init_frames = 0;  // pairs built into the model; a model exists once it is 1
+  CvsmPose pose, previous;  // `previous`: the pose before `pose`, meaningful in Predicting only
   Eigen::Vector3d home = Eigen::Vector3d::Zero();  // the translation the subject model was built at
-  bool have_previous = false;
 
   Impl(const CameraRig& r, CvsmOptions o)
       : rig(r),
@@ -115,7 +134,7 @@ struct CvsmTracker::Impl {
   // prediction from it).
   int local_search(int budget) {
     Candidates c(*this, to_params(pose));
-    if (have_previous) {
+    if (phase == Phase::Predicting) {
       PoseParams predicted = c.best, prev = to_params(previous);
       for (std::size_t i = 0; i < predicted.size(); ++i) predicted[i] += c.best[i] - prev[i];
       c.try_one(predicted);
@@ -197,7 +216,6 @@ struct CvsmTracker::Impl {
     if (!flag.empty()) r.fit.flag = std::string(flag);
     if (state == TrackingState::Tracking && r.fit.cost > opt.lost_cost) state = TrackingState::Lost;
     r.state = state;
-    lost = state == TrackingState::Lost;
     r.neck = r.vertebrae[kNeckIndex].body_center;
     r.waist = r.vertebrae[kWaistIndex].body_center;
     r.neck_dir = r.vertebrae[kNeckIndex].q * Eigen::Vector3d::UnitY();
@@ -211,8 +229,7 @@ struct CvsmTracker::Impl {
     r.fit.cost = 1.0;
     r.fit.candidates = 0;
     r.fit.flag = std::string(flag);
-    lost = true;
-    have_previous = false;
+    if (phase != Phase::Building) phase = Phase::Searching;
     return r;
   }
 
@@ -227,7 +244,7 @@ struct CvsmTracker::Impl {
     }
     cost->set_silhouettes(frontal, lateral);
 
-    if (!have_model || init_frames < opt.subject_frames) {
+    if (phase == Phase::Building) {
       // Building the subject model: only from clean frames.
       if (!flag.empty()) return no_person(flag);
       int candidates = 0;
@@ -240,16 +257,14 @@ struct CvsmTracker::Impl {
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
       search_model = thin_trunk(model, opt.search_vertebra_step);
-      have_model = true;
       pose = subject->pose;
       home = pose.translation;
-      have_previous = false;
       ++init_frames;
-      const bool done = init_frames >= opt.subject_frames;
-      lost = false;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
-      if (done) r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
-      lost = r.state == TrackingState::Lost;
+      if (init_frames >= opt.subject_frames) {
+        r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
+        phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
+      }
       return r;
     }
 
@@ -258,11 +273,13 @@ struct CvsmTracker::Impl {
     // Candidates are compared on every other row: half the scan conversion
     // and counting, and a person is well over a hundred rows tall.
     cost->set_row_step(opt.search_row_step);
-    if (lost) {
+    // Whether the search started from a predicted motion (it keeps its
+    // result even when lost; otherwise the last good pose is kept).
+    const bool predicted = phase == Phase::Predicting;
+    if (phase == Phase::Searching) {
       anchored = false;
       candidates = global_search(opt.global_budget);
       anchored = true;
-      have_previous = false;
     } else {
       candidates = local_search(opt.local_budget);
     }
@@ -273,12 +290,12 @@ struct CvsmTracker::Impl {
     if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);
     if (r.state == TrackingState::Lost) {
       // Keep the last good pose as the start of the next search.
-      if (!have_previous) pose = before;
-      have_previous = false;
+      if (!predicted) pose = before;
+      phase = Phase::Searching;
     } else {
       if ((pose.translation - home).norm() > kNewHomeMm) home = pose.translation;
       previous = before;
-      have_previous = flag.empty();
+      phase = flag.empty() ? Phase::Predicting : Phase::Tracking;
     }
     return r;
   }
@@ -313,11 +330,11 @@ BitMask CvsmTracker::fitted_mask(View view) {
   Impl& m = *impl_;
   // After finish(), `points` hold the full model at the reported pose and
   // the cost counts every row.
-  if (!m.cost || !m.have_model || m.lost || m.init_frames < m.opt.subject_frames) return {};
+  if (!m.cost || (m.phase != Phase::Tracking && m.phase != Phase::Predicting)) return {};
   return m.cost->render(m.model, m.points, view);
 }
 
-const BodyModel* CvsmTracker::subject_model() const { return impl_->have_model ? &impl_->model : nullptr; }
+const BodyModel* CvsmTracker::subject_model() const { return impl_->init_frames > 0 ? &impl_->model : nullptr; }
 
 std::optional<double> CvsmTracker::rejected_stature_mm() const {
   return impl_->subject ? impl_->subject->rejected_stature_mm : std::nullopt;

@@ -24,9 +24,7 @@ namespace {
 
 SilhouetteOptions silhouette_options(const EstimatorOptions& o) {
   SilhouetteOptions s;
-  auto mode = parse_background_mode(o.background);
-  // The configuration loader admits only valid names; a bad one here is a caller's bug.
-  s.background = mode ? *mode : BackgroundMode::Learn;
+  s.background = o.background;
   s.learn_frames = o.learn_frames;
   s.threshold = o.threshold;
   s.min_blob_px = o.min_blob_px;

@@ -18,6 +18,15 @@ Result<BackgroundMode> parse_background_mode(std::string_view text) {
   return Error{"silhouette.background: \"" + std::string(text) + "\" is not one of learn, image, threshold"};
 }
 
+std::string_view to_string(BackgroundMode mode) {
+  switch (mode) {
+    case BackgroundMode::Learn: return "learn";
+    case BackgroundMode::Image: return "image";
+    case BackgroundMode::Threshold: return "threshold";
+  }
+  return "?";
+}
+
 std::string_view to_string(SilhouetteStatus status) {
   switch (status) {
     case SilhouetteStatus::LearningBackground: return "learning_background";

@@ -6,20 +6,32 @@
 
 namespace spinewatch::sync {
 
+std::string_view to_string(TriggerMode mode) {
+  switch (mode) {
+    case TriggerMode::FreeRun: return "free-run";
+    case TriggerMode::Master: return "master";
+    case TriggerMode::Slave: return "slave";
+  }
+  return "?";
+}
+
 Result<std::unique_ptr<TriggerSource>> TriggerSource::open(const TriggerSourceOptions& options, EdgeCallback on_edge) {
-  if (options.mode == "free-run") return std::unique_ptr<TriggerSource>{};
-  if (options.mode == "master") {
-    auto line = open_gpiod_output(options.chip, options.line, options.consumer);
-    if (!line) return line.error();
-    return master(std::move(line).value(), TriggerMasterOptions{.fps = options.fps, .pulse_us = options.pulse_us},
-                  std::move(on_edge));
+  switch (options.mode) {
+    case TriggerMode::FreeRun:
+      return std::unique_ptr<TriggerSource>{};
+    case TriggerMode::Master: {
+      auto line = open_gpiod_output(options.chip, options.line, options.consumer);
+      if (!line) return line.error();
+      return master(std::move(line).value(), TriggerMasterOptions{.fps = options.fps, .pulse_us = options.pulse_us},
+                    std::move(on_edge));
+    }
+    case TriggerMode::Slave: {
+      auto line = open_gpiod_input(options.chip, options.line, options.consumer);
+      if (!line) return line.error();
+      return slave(std::move(line).value(), std::move(on_edge));
+    }
   }
-  if (options.mode == "slave") {
-    auto line = open_gpiod_input(options.chip, options.line, options.consumer);
-    if (!line) return line.error();
-    return slave(std::move(line).value(), std::move(on_edge));
-  }
-  return Error{fmt::format("trigger mode \"{}\": expected free-run, master or slave", options.mode)};
+  return Error{fmt::format("trigger mode {}: not a mode", static_cast<int>(options.mode))};
 }
 
 std::unique_ptr<TriggerSource> TriggerSource::master(std::unique_ptr<TriggerOutputLine> line,

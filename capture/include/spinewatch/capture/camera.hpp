@@ -21,6 +21,7 @@ struct CameraCounters {
   std::uint64_t dropped_gap = 0;    // gaps in the driver's sequence numbers
   std::uint64_t restarts = 0;       // reopened after a device loss
   std::uint64_t stalls = 0;         // watchdog reports
+  std::uint64_t losses = 0;         // the device went away (unplugged, disconnected); counted when seen
 };
 
 class Camera {

@@ -89,7 +89,7 @@ class V4l2Camera final : public Camera {
   std::int64_t retry_at_ns_ = 0;
   std::chrono::milliseconds backoff_{0};
   bool warned_clock_ = false;
-  std::atomic<std::uint64_t> frames_{0}, dropped_error_{0}, dropped_gap_{0}, restarts_{0}, stalls_{0};
+  std::atomic<std::uint64_t> frames_{0}, dropped_error_{0}, dropped_gap_{0}, restarts_{0}, stalls_{0}, losses_{0};
 };
 
 }  // namespace spinewatch

@@ -7,10 +7,29 @@
 #include <string_view>
 #include <vector>
 
+#include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/anatomy/worker.hpp"
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/frames/pixel_format.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "spinewatch/sync/trigger_source.hpp"
 
 namespace spinewatch {
+
+// The modes of the configuration, parsed once when it is read (the loader's
+// table holds each mode's names); code switches on these, never on text.
+enum class CameraSource : std::uint8_t {
+  Auto,       // cameras when both nodes are there, else the embedded recording
+  V4l2,       // the two V4L2 nodes, or an error
+  Libcamera,  // two libcamera cameras by id, or an error
+  Recording,  // cameras.recording (or the embedded default)
+};
+enum class ReplayPace : std::uint8_t {
+  Paced,  // a recording at its own rate, like cameras
+  Fast,   // as fast as the estimator takes pairs
+};
+std::string_view to_string(CameraSource source);
+std::string_view to_string(ReplayPace pace);
 
 struct Config {
   struct Station {
@@ -19,10 +38,10 @@ struct Config {
   } station;
 
   struct Cameras {
-    std::string source = "auto";  // auto | v4l2 | libcamera | recording
+    CameraSource source = CameraSource::Auto;
     std::string frontal = "/dev/video0";  // V4L2 node, or a libcamera id when source = "libcamera"
     std::string lateral = "/dev/video2";
-    std::string pixel_format = "YUYV";
+    PixelFormat pixel_format = PixelFormat::YUYV;
     int width = 320;
     int height = 240;
     double fps = 30.0;
@@ -31,13 +50,13 @@ struct Config {
     int buffers = 4;
     std::string calibration = "/etc/spinewatch/calibration.yaml";
     std::string recording = "";  // "" with source=auto/recording: the embedded phantom default
-    std::string replay = "paced";  // paced | fast: how spinewatchd replays a recording
+    ReplayPace replay = ReplayPace::Paced;  // how spinewatchd replays a recording
     double watchdog_s = 2.0;
     bool operator==(const Cameras&) const = default;
   } cameras;
 
   struct Trigger {
-    std::string mode = "free-run";  // free-run | master | slave
+    sync::TriggerMode mode = sync::TriggerMode::FreeRun;
     std::string chip = "gpiochip0";
     int line = 17;
     int pulse_us = 1000;
@@ -47,7 +66,7 @@ struct Config {
   } trigger;
 
   struct Silhouette {
-    std::string background = "learn";  // learn | image | threshold
+    BackgroundMode background = BackgroundMode::Learn;
     int learn_frames = 10;
     int threshold = 28;        // grey levels above the background difference
     int chroma_threshold = 12; // chroma levels that make a pixel person whatever its luma (YUYV); 0 = luma only
@@ -88,7 +107,7 @@ struct Config {
     double height_mm = 1750.0;  // the starting guess where the stature is not seen
     // Where the spine sits in the measured body: "measured" (regressions on
     // ANSUR II, docs/anthropometry.md) or "generic" (fixed fractions of height).
-    std::string spine_placement = "measured";
+    SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
     bool operator==(const Subject&) const = default;
   } subject;
 

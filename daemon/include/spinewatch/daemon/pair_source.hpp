@@ -13,6 +13,7 @@ namespace spinewatch {
 struct CameraSourceStats {
   std::uint64_t frames = 0;    // delivered by this camera
   std::uint64_t restarts = 0;  // reopened after a device loss (cameras only)
+  std::uint64_t losses = 0;    // the device went away (cameras only); each marked by a camera_lost line
 };
 
 struct SourceStats {

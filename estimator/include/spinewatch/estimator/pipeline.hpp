@@ -13,6 +13,7 @@
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/silhouette/background_model.hpp"
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
 #include "spinewatch/frames/result.hpp"
 
@@ -37,7 +38,7 @@ struct EstimatorTrace {
 
 struct EstimatorOptions {
   // Silhouettes (config [silhouette]).
-  std::string background = "learn";  // learn | image | threshold
+  BackgroundMode background = BackgroundMode::Learn;
   int learn_frames = 10;
   int threshold = 28;
   int chroma_threshold = 12;     // colour: SilhouetteOptions::chroma_threshold

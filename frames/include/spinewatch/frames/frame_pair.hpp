@@ -13,6 +13,11 @@ struct FramePair {
   std::int64_t timestamp_ns = 0;
   Frame frontal;
   Frame lateral;
+  // No frames: a marker that a camera went away here (the daemon's camera
+  // source makes it when a camera's `losses` counter grows). The daemon
+  // publishes it as a `lost` line flagged `camera_lost`, so the gap shows
+  // in the stream where it began, not only in counters.
+  bool camera_lost = false;
 };
 
 }  // namespace spinewatch

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/sync/trigger_line.hpp"
@@ -15,8 +16,16 @@
 
 namespace spinewatch::sync {
 
+// trigger.mode, parsed once when the configuration is read.
+enum class TriggerMode : std::uint8_t {
+  FreeRun,  // no trigger: the cameras run on their own clocks, frames paired by time
+  Master,   // we drive a GPIO output at the camera rate
+  Slave,    // we timestamp the trigger controller's rising edges on a GPIO input
+};
+std::string_view to_string(TriggerMode mode);
+
 struct TriggerSourceOptions {
-  std::string mode = "free-run";  // free-run | master | slave
+  TriggerMode mode = TriggerMode::FreeRun;
   std::string chip = "gpiochip0";
   unsigned line = 17;
   double fps = 30.0;

@@ -24,6 +24,7 @@ enum class BackgroundMode : std::uint8_t {
   Threshold,  // the paper's plain threshold against a uniform backdrop
 };
 Result<BackgroundMode> parse_background_mode(std::string_view text);
+std::string_view to_string(BackgroundMode mode);  // learn | image | threshold
 
 struct SilhouetteOptions {
   BackgroundMode background = BackgroundMode::Learn;
