@@ -33,7 +33,7 @@ const anthropometry::AnsurSubject& subject(int id) {
 }
 
 phantom::PhantomSequence sequence(const anthropometry::AnsurSubject& row, const std::string& scenario, int frames) {
-  auto body = phantom::subject_from_ansur(row);
+  auto body = phantom::subject_from_ansur(row, phantom::RuleDraw::Mean);
   if (!body) throw std::runtime_error(body.error().message);
   phantom::PhantomOptions po;
   po.scenario = scenario;
