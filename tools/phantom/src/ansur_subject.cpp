@@ -88,6 +88,9 @@ Result<Subject> subject_from_ansur(const anthropometry::AnsurSubject& row, RuleD
   s.l5_height_mm = row.iliocristale_height_mm -
                    (rule.l5_below_iliocristale_mm(row.sex == Sex::Male ? spinewatch::Sex::Male : spinewatch::Sex::Female) +
                     dev.l5_below_iliocristale_mm);
+  // A drawn L5 stays above the measured hip joints (the subject file's
+  // limit is 35 mm; a 2-SD draw put one in 6 068 within 28 mm).
+  s.l5_height_mm = std::max(*s.l5_height_mm, row.trochanterion_height_mm + 40);
   const double bmi = row.mass_kg / std::pow(row.stature_mm / 1000.0, 2);
   // Inside the trunk whatever the draw (the subject file's own limit).
   s.spine_depth_thoracic_mm = std::min(depth.mean_mm(SpineRegion::Thoracic, bmi) + dev.thoracic_depth_mm,

@@ -21,7 +21,7 @@ namespace spinewatch::phantom {
 // What the rules the row is placed by are taken as. Drawn (the validation
 // protocol, docs/anthropometry.md): each subject's skin-to-vertebra
 // offsets and spine depth behind the back skin are drawn from the rules'
-// published distributions (mean ± SD, cut at ± truncate_sd), by a
+// published distributions (mean ± SD, clamped at ± truncate_sd), by a
 // generator seeded with the SubjectId alone, so a subject is the same
 // person in every tool, sweep and test; the estimator uses the means, so
 // its figures include the rules' own uncertainty. Mean: every rule at its
