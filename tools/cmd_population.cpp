@@ -39,6 +39,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     int frames = 0;
     bool known_worker = false;
     bool known_landmarks = false;
+    std::string rules = "drawn";
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -61,6 +62,11 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                 "Give the estimator each subject's stature and mass, as for a known worker");
   cmd->add_flag("--known-landmarks", opts->known_landmarks,
                 "Give each subject's stature, mass, C7 and iliac-crest heights, as for a worker measured at set-up");
+  cmd->add_option("--rules", opts->rules,
+                  "Each subject's skin-to-vertebra offsets and spine depth: drawn from the published rules' spread "
+                  "(the validation protocol) or at their means (what the estimator assumes)")
+      ->check(CLI::IsMember({"drawn", "mean"}))
+      ->capture_default_str();
   cmd->callback([opts, &exit_code] {
     // The options first (exit 2), then the data (exit 1).
     population::SweepOptions sweep;
@@ -77,6 +83,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     sweep.frames = opts->frames;
     sweep.known_worker = opts->known_worker;
     sweep.known_landmarks = opts->known_landmarks;
+    sweep.rules = opts->rules == "mean" ? phantom::RuleDraw::Mean : phantom::RuleDraw::Drawn;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
 
     std::vector<population::Run> runs;
@@ -93,9 +100,10 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     }
     fmt::print("{}\n", population::format_runs(runs));
     fmt::print("{}", population::format_pooled(population::pool(runs),
-                                              fmt::format("{} set, spine placement {}{}", opts->set, opts->placement,
+                                              fmt::format("{} set, spine placement {}{}{}", opts->set, opts->placement,
                                                           opts->known_landmarks ? ", stature, mass, C7 and iliac crest given"
-                                                          : opts->known_worker ? ", stature and mass given" : "")));
+                                                          : opts->known_worker ? ", stature and mass given" : "",
+                                                          opts->rules == "mean" ? ", rules at their means" : "")));
   });
 }
 

@@ -1,6 +1,8 @@
 // Phantom subjects from measured adults (ANSUR II, ../shared/data/ansur2).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "spinewatch/anthropometry/ansur.hpp"
@@ -35,7 +37,7 @@ double head_top(const BodyModel& body) {
 // The first man of the release: stature 1776, cervicale 1535, iliac crest
 // 1071, sitting height 928, 81.5 kg (his row of ANSUR_II_MALE_Public.csv).
 TEST(AnsurSubject, KnownManPlacesT1AndL5FromHisLandmarks) {
-  auto s = load_ansur_subject("ansur:10027", ansur_dir());
+  auto s = load_ansur_subject("ansur:10027", ansur_dir(), RuleDraw::Mean);
   ASSERT_TRUE(s) << s.error().message;
   EXPECT_EQ(s->name, "ansur:10027");
   EXPECT_EQ(s->height_mm, 1776);
@@ -57,7 +59,7 @@ TEST(AnsurSubject, KnownManPlacesT1AndL5FromHisLandmarks) {
 }
 
 TEST(AnsurSubject, KnownWomanUsesTheWomensCrestRule) {
-  auto s = load_ansur_subject("ansur:10037", ansur_dir());  // stature 1560, cervicale 1336, crest 966
+  auto s = load_ansur_subject("ansur:10037", ansur_dir(), RuleDraw::Mean);  // stature 1560, cervicale 1336, crest 966
   ASSERT_TRUE(s) << s.error().message;
   EXPECT_EQ(*s->t1_height_mm, 1336 - 15);
   EXPECT_EQ(*s->l5_height_mm, 966 - 10);
@@ -89,13 +91,54 @@ TEST(AnsurSubject, EveryRowOfTheReleaseIsAValidSubject) {
     auto s = subject_from_ansur(row);
     ASSERT_TRUE(s) << row.id << ": " << s.error().message;
     const BodyModel body(*s, SubjectPosture::Standing, 1);
-    ASSERT_NEAR(body.neutral()[kNeckIndex].body_center.y(), row.cervicale_height_mm - 15, 1e-6) << row.id;
+    const RuleDeviation dev = draw_rule_deviation(row.id, default_spine_depth());
+    ASSERT_NEAR(body.neutral()[kNeckIndex].body_center.y(), row.cervicale_height_mm - 15 - dev.t1_below_cervicale_mm, 1e-6)
+        << row.id;
+    ASSERT_GE(*s->l5_height_mm, row.trochanterion_height_mm + 40) << row.id;
     ASSERT_NEAR(head_top(body), row.stature_mm, 1e-6) << row.id;
   }
 }
 
+// The validation protocol (config/spine-depth.toml): each subject's
+// offsets and spine depth drawn from the rules' distributions, the same
+// for a subject every time, and over the release as published — mean 0,
+// SD the rule's (clamped at ±2 SD: 0.96 of it), never beyond the clamp.
+TEST(AnsurSubject, RulesAreDrawnPerSubjectFromTheirPublishedSpread) {
+  const SpineDepthRule& rule = default_spine_depth();
+  const double sd[] = {rule.t1_below_cervicale_sd_mm(), rule.l5_below_iliocristale_sd_mm(),
+                       rule.sd_mm(SpineRegion::Thoracic), rule.sd_mm(SpineRegion::Lumbar)};
+  double sum[4] = {}, sq[4] = {};
+  for (const auto& row : release()) {
+    const RuleDeviation d = draw_rule_deviation(row.id, rule);
+    const RuleDeviation again = draw_rule_deviation(row.id, rule);
+    ASSERT_EQ(d.lumbar_depth_mm, again.lumbar_depth_mm);
+    const double v[] = {d.t1_below_cervicale_mm, d.l5_below_iliocristale_mm, d.thoracic_depth_mm, d.lumbar_depth_mm};
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_LE(std::abs(v[k]), 2.0 * sd[k] * 1.0001 + (k >= 2 ? 2.0 * sd[k] : 0)) << row.id;
+      sum[k] += v[k];
+      sq[k] += v[k] * v[k];
+    }
+  }
+  const double n = double(release().size());
+  for (int k = 0; k < 4; ++k) {
+    const double mean = sum[k] / n, spread = std::sqrt(sq[k] / n - mean * mean);
+    EXPECT_NEAR(mean, 0.0, 0.05 * sd[k]) << k;
+    EXPECT_NEAR(spread / sd[k], 0.96, 0.03) << k;
+  }
+  // The drawn subject carries them: depth at its BMI plus its deviation.
+  const auto& row = release().front();
+  auto drawn = subject_from_ansur(row);
+  auto mean = subject_from_ansur(row, RuleDraw::Mean);
+  ASSERT_TRUE(drawn && mean);
+  const RuleDeviation d = draw_rule_deviation(row.id, rule);
+  EXPECT_NEAR(drawn->spine_depth_lumbar_mm - mean->spine_depth_lumbar_mm, d.lumbar_depth_mm, 1e-9);
+  EXPECT_NEAR(*mean->l5_height_mm - *drawn->l5_height_mm, d.l5_below_iliocristale_mm, 1e-9);
+  const double bmi = row.mass_kg / std::pow(row.stature_mm / 1000.0, 2);
+  EXPECT_NEAR(mean->spine_depth_thoracic_mm, rule.mean_mm(SpineRegion::Thoracic, bmi), 1e-9);
+}
+
 TEST(AnsurSubject, LandmarksRoundTripThroughJson) {
-  auto s = load_ansur_subject("ansur:10027", ansur_dir());
+  auto s = load_ansur_subject("ansur:10027", ansur_dir(), RuleDraw::Mean);
   ASSERT_TRUE(s) << s.error().message;
   const json j = to_json(*s);
   EXPECT_EQ(j["spine_heights_mm"]["t1"], 1520);
@@ -109,7 +152,7 @@ TEST(AnsurSubject, LandmarksRoundTripThroughJson) {
 }
 
 TEST(AnsurSubject, BadLandmarksNameTheField) {
-  auto s = load_ansur_subject("ansur:10027", ansur_dir());
+  auto s = load_ansur_subject("ansur:10027", ansur_dir(), RuleDraw::Mean);
   ASSERT_TRUE(s) << s.error().message;
   struct Case {
     void (*edit)(json&);
@@ -140,12 +183,14 @@ TEST(AnsurSubject, CliRendersAMeasuredAdult) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json recording = json::parse(test::read_file(dir / "rec" / "recording.json"));
   EXPECT_EQ(recording["subject"]["name"], "ansur:10027");
-  EXPECT_EQ(recording["subject"]["spine_heights_mm"]["l5"], 1046);
+  // The CLI's subject is the validation protocol's: his drawn offsets.
+  const RuleDeviation dev = draw_rule_deviation(10027, default_spine_depth());
+  EXPECT_NEAR(recording["subject"]["spine_heights_mm"]["l5"].get<double>(), 1046 - dev.l5_below_iliocristale_mm, 1e-6);
   // The ground truth's neck is T1 at his landmark, give or take the sway.
   const std::string truth = test::read_file(dir / "rec" / "ground_truth.ndjson");
   const std::size_t second = truth.find('\n') + 1;  // the first line is the empty frame
   const json person = json::parse(truth.substr(second, truth.find('\n', second) - second));
-  EXPECT_NEAR(person["neck"][1].get<double>(), 1520, 10) << person.dump();
+  EXPECT_NEAR(person["neck"][1].get<double>(), 1520 - dev.t1_below_cervicale_mm, 10) << person.dump();
 
   auto unknown = test::run_command(env + SPINEWATCH_CLI + " phantom --scenario upright --subject ansur:1 --out " +
                                    (dir / "rec2").string());

@@ -33,7 +33,7 @@ const anthropometry::AnsurSubject& subject(int id) {
 }
 
 phantom::PhantomSequence sequence(const anthropometry::AnsurSubject& row, const std::string& scenario, int frames) {
-  auto body = phantom::subject_from_ansur(row);
+  auto body = phantom::subject_from_ansur(row, phantom::RuleDraw::Mean);
   if (!body) throw std::runtime_error(body.error().message);
   phantom::PhantomOptions po;
   po.scenario = scenario;
@@ -133,9 +133,11 @@ TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
   ASSERT_TRUE(w.worker->rejected_stature_mm);
   EXPECT_EQ(*w.worker->rejected_stature_mm, row.stature_mm - 250);
   EXPECT_NEAR(w.worker->stature_mm, row.stature_mm, 15.0);
-  // Placed for the body in view: no worse than with nothing given (the
-  // posture choice started from the given height, so not identical).
-  EXPECT_LE(mean_error(wrong), mean_error(unknown) + 2.0);
+  // Placed for the body in view: about as good as with nothing given (the
+  // posture choice started from the given height, so not identical; since
+  // the spine's depth follows the fitted waist depth (config/spine-depth.toml)
+  // the two fits part a little more: 12.2 against 9.5 mm, session 10).
+  EXPECT_LE(mean_error(wrong), mean_error(unknown) + 3.5);
   const Posture& s = last_tracking(shod);
   EXPECT_EQ(s.worker->stature_source, BodyValueSource::Given);
   EXPECT_FALSE(s.worker->rejected_stature_mm);
@@ -157,7 +159,10 @@ TEST(KnownWorker, TheGivenMassDrivesTheLoads) {
   };
   const double light = load_with(60), heavy = load_with(120);
   EXPECT_GT(light, 100.0);
-  EXPECT_NEAR(heavy / light, 2.0, 0.05);
+  // Not exactly 2 since session 10: the given mass also sets the BMI the
+  // spine's depth is placed for (BMI 19 against 39: 19 mm deeper), which
+  // moves the lever arms a little (measured 2.06).
+  EXPECT_NEAR(heavy / light, 2.0, 0.1);
 }
 
 // A new worker mid-run: the subject's model is built again (init, then

@@ -28,6 +28,7 @@ TEST(PopulationCli, BadInputIsOneClearMessage) {
   const Case cases[] = {
       {"--scenarios ''", 2, "--scenarios: no scenario given"},
       {"--set both", 2, "--set: both not in {test,train}"},
+      {"--rules both", 2, "--rules: both not in {drawn,mean}"},
       {"--men -1", 2, "--men: Value -1 not in range 0 to 1000"},
       {"--ansur /nonexistent", 1, "/nonexistent/ANSUR_II_MALE_Public.csv: cannot open"},
       {"--men 0 --women 0", 1, "population: no subject matches the selection"},
@@ -41,10 +42,10 @@ TEST(PopulationCli, BadInputIsOneClearMessage) {
 }
 
 TEST(PopulationCli, OneSubjectKnownOrNotPrintsItsTables) {
-  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --known-worker");
+  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --known-worker --rules mean");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("| subject | sex | stature |"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("test set, spine placement measured, stature and mass given: 1 runs"), std::string::npos)
+  EXPECT_NE(r.output.find("test set, spine placement measured, stature and mass given, rules at their means: 1 runs"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("| L5 |"), std::string::npos) << "the per-level bias table\n" << r.output;
 }

@@ -1,5 +1,6 @@
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace spinewatch {
@@ -69,8 +70,10 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
     ControlPlane p;
     p.frame = static_cast<int>(i);
     p.half_width = t.half_width * H * shape.width_scale;
-    p.back = t.spine_fraction * depth;
-    p.front = depth - p.back;
+    p.back = shape.spine_depth_mm[i] > 0 ? shape.spine_depth_mm[i] : t.spine_fraction * depth;
+    // A rule-placed spine in a trunk the fit makes shallow keeps some body
+    // in front of it (the vertebral body alone reaches ~20 mm forward).
+    p.front = std::max(depth - p.back, std::max(25.0, 0.2 * depth));
     p.vertebra = true;
     trunk_chain.push_back(add(p));
   }

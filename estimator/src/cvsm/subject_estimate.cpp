@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "coordinate_search.hpp"
+#include "spinewatch/estimator/anatomy/spine_depth.hpp"
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 
 namespace spinewatch::cvsm_detail {
@@ -139,6 +140,26 @@ std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
   return h;
 }
 
+// The spine's depth in front of the back skin by the published rule, for
+// the BMI of the given mass and stature, else the BMI the fitted waist
+// depth (the template's L3 section, where the outline's waist is) and the
+// stature imply (config/spine-depth.toml, docs/anthropometry.md).
+void set_spine_depth(BodyShape& shape, const SubjectEstimate& s, const CvsmSpec& spec, double stature_mm) {
+  const SpineDepthRule& rule = default_spine_depth();
+  constexpr std::size_t kL3 = 14;
+  double bmi = 0;
+  if (s.given_mass_kg && *s.given_mass_kg > 0 && stature_mm > 0) {
+    bmi = *s.given_mass_kg / std::pow(stature_mm / 1000.0, 2);
+  } else {
+    const double waist_depth = shape.measured_depth_mm[kL3] > 0
+                                   ? shape.measured_depth_mm[kL3]
+                                   : spec.trunk[kL3].depth * shape.height_mm * shape.depth_scale;
+    bmi = rule.bmi_from_outline(waist_depth, stature_mm);
+  }
+  bmi = std::clamp(bmi, 16.0, 45.0);  // the rule's sources span about 17–45
+  for (std::size_t i = 0; i < kVertebraCount; ++i) shape.spine_depth_mm[i] = rule.mean_mm(region_of(i), bmi);
+}
+
 }  // namespace
 
 BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& generic_spine) {
@@ -153,8 +174,11 @@ BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec&
   // the crown, so changing the height moves the trunk and legs, not the
   // top of the head (the two are measured separately).
   BodyShape shape = s.shape;
-  if (hanging) shape.stature_mm = hanging->stature_mm;
   const double H = shape.height_mm;
+  if (hanging) {
+    shape.stature_mm = hanging->stature_mm;
+    set_spine_depth(shape, s, spec, hanging->stature_mm);
+  }
   const double t1 = neutral_pose(spine, H, l5)[kNeckIndex].body_center.y() + s.pose.translation.y();
   const double generic = (kCrown * H) - neutral_pose(spine, H)[kNeckIndex].body_center.y();
   if (s.crown_y > 0 && generic > 0) shape.head_scale = std::clamp((s.crown_y - t1) / generic, 0.6, 1.6);
@@ -183,6 +207,7 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   s.given_stature_mm = options.stature_mm;
   s.given_c7_mm = options.c7_height_mm;
   s.given_crest_mm = options.iliac_crest_height_mm;
+  s.given_mass_kg = options.mass_kg;
   if (s.given_stature_mm)
     s.shape.height_mm = *s.given_stature_mm;
   else if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
@@ -264,6 +289,7 @@ bool check_given_stature(SubjectEstimate& s) {
   // one in view.
   s.given_c7_mm.reset();
   s.given_crest_mm.reset();
+  s.given_mass_kg.reset();
   s.shape.height_mm = std::clamp(s.measured_crown_mm / kCrown, 1300.0, 2200.0);
   return true;
 }

@@ -25,6 +25,9 @@ struct SubjectEstimate {
   // Given skin landmarks (C7, iliac crest): they place T1 and L5 instead of
   // the stature regressions; set aside with a rejected stature.
   std::optional<double> given_c7_mm, given_crest_mm;
+  // Given mass: with the stature, the BMI the spine's depth is placed for;
+  // without it, the BMI the fitted waist depth implies.
+  std::optional<double> given_mass_kg;
   // A given stature the standing silhouettes contradicted (see
   // check_given_stature): set aside, and the stature measured instead.
   std::optional<double> rejected_stature_mm;

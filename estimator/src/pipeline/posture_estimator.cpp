@@ -51,6 +51,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.stature_mm = o.worker.stature_mm;
   c.c7_height_mm = o.worker.c7_height_mm;
   c.iliac_crest_height_mm = o.worker.iliac_crest_height_mm;
+  c.mass_kg = o.worker.mass_kg;
   c.model = o.cvsm_model;
   c.spine = o.spine_model;
   return c;

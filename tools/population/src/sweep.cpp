@@ -11,7 +11,7 @@
 namespace spinewatch::population {
 
 Result<Run> run_subject(const anthropometry::AnsurSubject& row, const std::string& scenario, const SweepOptions& o) {
-  auto subject = phantom::subject_from_ansur(row);
+  auto subject = phantom::subject_from_ansur(row, o.rules);
   if (!subject) return subject.error();
   phantom::PhantomOptions po;
   po.scenario = scenario;

@@ -57,6 +57,10 @@ struct BodyShape {
   // Measured per-level trunk depths (mm), overriding depth × depth_scale
   // where > 0; the spine keeps its generic fraction of the depth.
   std::array<double, kVertebraCount> measured_depth_mm{};
+  // Per level, the body centre's depth in front of the back skin (mm) by
+  // the published rule (anatomy/spine_depth.hpp) where > 0; else the
+  // template's spine fraction of the trunk depth (the generic placement).
+  std::array<double, kVertebraCount> spine_depth_mm{};
   SubjectPosture posture = SubjectPosture::Standing;
   // The stature the spine was placed for (measured placement: the crown
   // standing, the searched height seated); 0 with the generic placement.

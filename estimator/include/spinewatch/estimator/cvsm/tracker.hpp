@@ -31,6 +31,9 @@ struct CvsmOptions {
   // The worker's measured C7 and iliac-crest heights when given: they place
   // T1 and L5 (measured placement only; anatomy/worker.hpp).
   std::optional<double> c7_height_mm, iliac_crest_height_mm;
+  // The worker's mass when given: with the stature, the BMI the spine's
+  // depth behind the back skin is placed for (anatomy/spine_depth.hpp).
+  std::optional<double> mass_kg;
   std::optional<SubjectPosture> posture;  // nothing: decided from the first frames
   std::optional<CvsmSpec> model;          // nothing: the generic model built in
   std::optional<SpineSpec> spine;         // nothing: the generic spine built in

@@ -13,6 +13,7 @@
 #include "spinewatch/anthropometry/ansur.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
 #include "spinewatch/replay/evaluation.hpp"
 
 namespace spinewatch::population {
@@ -28,6 +29,10 @@ struct SweepOptions {
   // Each subject's measured C7 and iliac-crest heights given too, as a
   // station's set-up measures them with a tape (KnownWorker).
   bool known_landmarks = false;
+  // How the phantom takes the published placement and depth rules for each
+  // subject: drawn from their spread (the validation protocol), or at the
+  // means the estimator assumes (self-consistency only).
+  phantom::RuleDraw rules = phantom::RuleDraw::Drawn;
   std::uint32_t seed = 1;
 };
 
