@@ -112,14 +112,21 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
     const std::string where = overrides.listen ? "--listen " : "publish.listen: ";
     auto endpoint = parse_listen_address(listen);
     if (!endpoint) return Error{where + endpoint.error().message};
+    const Config::Publish& c = config.publish;
+    auto access = load_access({c.tls_cert, c.tls_key, c.tls_client_ca, c.token_file}, "publish");
+    if (!access) return access.error();
     // Safe by default (docs/security.md): the stream is health data about
-    // identifiable workers, and nothing authenticates its clients yet.
-    if (!is_loopback(*endpoint) && !config.publish.allow_unauthenticated)
+    // identifiable workers; a network bind needs TLS and an authentication,
+    // or the site's explicit acceptance.
+    if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
       return Error{fmt::format(
-          "{}{}: not a loopback address, and the posture stream has no authentication: anyone who can reach the "
-          "port would read the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH tunnel or an "
-          "authenticating proxy), or set [publish] allow_unauthenticated = true to accept that (docs/security.md)",
-          where, listen)};
+          "{}{}: not a loopback address, and the posture stream is not protected ({}): anyone who can reach the "
+          "port would read the workers' postures. Set [publish] tls_cert and tls_key with token_file or "
+          "tls_client_ca, or listen on 127.0.0.1 (and reach it through an SSH tunnel), or set [publish] "
+          "allow_unauthenticated = true to accept that (docs/security.md)",
+          where, listen, access->describe())};
+    o.access = std::move(access).value();
+    o.auth_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(c.auth_timeout_s * 1000));
     o.tcp = *endpoint;
   }
   const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
@@ -138,14 +145,19 @@ Result<std::optional<HttpOptions>> http_options(const Config& config, const Daem
   const std::string where = overrides.http ? "--http " : "http.listen: ";
   auto endpoint = parse_listen_address(listen);
   if (!endpoint) return Error{where + endpoint.error().message};
-  if (!is_loopback(*endpoint) && !config.http.allow_unauthenticated)
+  const Config::Http& c = config.http;
+  auto access = load_access({c.tls_cert, c.tls_key, c.tls_client_ca, c.token_file}, "http");
+  if (!access) return access.error();
+  if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
     return Error{fmt::format(
-        "{}{}: not a loopback address, and the live view has no authentication: anyone who can reach the port "
-        "would see the station's views and the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH "
-        "tunnel: docs/daemon.md), or set [http] allow_unauthenticated = true to accept that (docs/security.md)",
-        where, listen)};
+        "{}{}: not a loopback address, and the live view is not protected ({}): anyone who can reach the port "
+        "would see the station's views and the workers' postures. Set [http] tls_cert and tls_key with token_file "
+        "or tls_client_ca, or listen on 127.0.0.1 (and reach it through an SSH tunnel: docs/daemon.md), or set "
+        "[http] allow_unauthenticated = true to accept that (docs/security.md)",
+        where, listen, access->describe())};
   HttpOptions o;
   o.endpoint = *endpoint;
+  o.access = std::move(access).value();
   o.max_connections = static_cast<std::size_t>(config.http.max_connections);
   o.timeout = std::chrono::milliseconds(static_cast<std::int64_t>(config.http.timeout_s * 1000));
   return std::optional<HttpOptions>(o);
@@ -497,7 +509,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   auto options = publisher_options(d.config, d.overrides);
   if (!options) return options.error();
   options->on_input = [&d](std::string_view line, const std::string& client) { return d.on_client_line(line, client); };
-  if (options->tcp && !is_loopback(*options->tcp)) {
+  if (options->tcp && !is_loopback(*options->tcp) && !options->access.safe_for_network()) {
     d.hello_warnings.push_back(fmt::format(
         "unauthenticated: tcp {}:{} serves the posture stream to anyone who can reach it (publish.allow_unauthenticated)",
         options->tcp->host, options->tcp->port));
@@ -505,7 +517,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   }
   auto http = http_options(d.config, d.overrides);
   if (!http) return http.error();
-  if (*http && !is_loopback((*http)->endpoint)) {
+  if (*http && !is_loopback((*http)->endpoint) && !(*http)->access.safe_for_network()) {
     d.hello_warnings.push_back(fmt::format(
         "unauthenticated: http {}:{} serves the live view to anyone who can reach it (http.allow_unauthenticated)",
         (*http)->endpoint.host, (*http)->endpoint.port));
@@ -515,7 +527,8 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
       Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name, d.hello_warnings));
   if (!publisher) return publisher.error();
   d.publisher = std::move(publisher).value();
-  if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());
+  if (options->tcp)
+    spdlog::info("publishing on tcp {}:{} ({})", options->tcp->host, d.publisher->tcp_port(), options->access.describe());
   if (options->unix_socket) spdlog::info("publishing on unix socket {}", options->unix_socket->string());
 
   d.poll_trigger_controller();  // trigger.controller: set up now, or retried while running
@@ -572,8 +585,9 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     auto server = HttpServer::start(d.publisher->io_context(), **http, std::move(handlers), std::move(station), *d.live);
     if (!server) return server.error();
     d.http = std::move(server).value();
-    spdlog::info("live view on http://{}:{}/ ({} pictures/s at most, camera pixels {})", (*http)->endpoint.host,
-                 d.http->port(), h.fps, h.camera_pixels ? "shown" : "hidden");
+    spdlog::info("live view on {}://{}:{}/ ({}; {} pictures/s at most, camera pixels {})",
+                 (*http)->access.tls ? "https" : "http", (*http)->endpoint.host, d.http->port(),
+                 (*http)->access.describe(), h.fps, h.camera_pixels ? "shown" : "hidden");
   }
 
   d.pipeline = std::make_unique<Pipeline>(

@@ -101,6 +101,9 @@ struct Config {
     // that is not loopback is refused at start unless this says the site
     // accepts that anyone who can reach the port reads the postures.
     bool allow_unauthenticated = false;
+    // TLS and authentication on the TCP port (docs/security.md); "" = off.
+    std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
+    double auth_timeout_s = 10.0;  // the TLS handshake and the auth line must be done within this
     bool operator==(const Publish&) const = default;
   } publish;
 
@@ -132,6 +135,8 @@ struct Config {
     bool camera_pixels = false;  // the views over the cameras' pixels; false: a plain background (privacy)
     int max_connections = 16;
     double timeout_s = 10.0;     // a request must arrive, and each response or stream frame be taken, within this
+    // As [publish]'s: TLS, client certificates, bearer tokens; "" = off.
+    std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
     bool operator==(const Http&) const = default;
   } http;
 

@@ -8,6 +8,7 @@
 // publish() never blocks on a socket: the pipeline and the other clients
 // never wait for anyone.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "spinewatch/daemon/access.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace boost::asio {
@@ -51,6 +53,11 @@ struct PublisherOptions {
   // Unset: input is read and thrown away.
   std::function<ClientInputReply(std::string_view line, const std::string& client)> on_input;
   int send_buffer_bytes = 0;  // SO_SNDBUF for client sockets; 0: the kernel's default
+  // The TCP listener's TLS and authentication (docs/security.md); the Unix
+  // socket is guarded by its file mode and group instead. A TLS handshake,
+  // and with tokens the auth line, must complete within auth_timeout.
+  Access access;
+  std::chrono::milliseconds auth_timeout{10000};
 };
 
 struct PublisherStats {
@@ -58,6 +65,8 @@ struct PublisherStats {
   std::uint64_t clients_total = 0;     // accepted since start
   std::uint64_t clients_dropped = 0;   // dropped for a queue overflow or too much input
   std::uint64_t clients_rejected = 0;  // refused because max_clients were connected
+  std::uint64_t auth_failures = 0;     // TCP clients closed: no valid token within the timeout
+  std::uint64_t tls_failures = 0;      // TCP clients closed: the TLS handshake failed (plain text, no or a foreign certificate)
   std::uint64_t lines = 0;             // lines published
   std::uint64_t lines_dropped = 0;     // lines dropped from the inbox (I/O thread behind)
   std::size_t inbox = 0;               // lines waiting for the I/O thread now
