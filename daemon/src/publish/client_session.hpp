@@ -19,6 +19,7 @@
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
 #include <boost/asio.hpp>
+#include <spdlog/spdlog.h>
 
 #include "spinewatch/daemon/access.hpp"
 #include "spinewatch/daemon/publisher.hpp"
@@ -221,6 +222,7 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
     }
     authenticated_ = true;
     auth_timer_.cancel();
+    spdlog::info("publisher: client {} authenticated as {}", name_, *who);
     name_ += " as " + *who;
     queue_.push_back(std::make_shared<const std::string>(R"({"class":"reply","v":1,"command":"auth","ok":true})" "\n"));
     queue_.push_back(std::exchange(hello_, nullptr));
