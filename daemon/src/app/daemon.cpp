@@ -23,6 +23,7 @@
 #include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
+#include "spinewatch/daemon/pseudonym.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/daemon/source_plan.hpp"
@@ -194,7 +195,8 @@ struct Daemon::Impl {
   // whose I/O thread sets it).
   std::mutex worker_mutex;
   std::optional<KnownWorker> pending_worker;
-  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with
+  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with (its pseudonym)
+  std::optional<Pseudonyms> pseudonyms;          // I/O thread; opened at start or at the first id
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
@@ -329,8 +331,33 @@ struct Daemon::Impl {
       spdlog::warn("client {}: {}", client, command.error().message);
       return {rejected_reply(command.error()), false};
     }
+    if (command->id) {
+      // From here on only the pseudonym exists: the store, the stream, the
+      // log and the reply itself carry it (docs/security.md).
+      auto named = worker_name(*command->id);
+      if (!named) {
+        spdlog::error("client {}: set_worker refused: {}", client, named.error().message);
+        return {rejected_reply(Error{"id: " + named.error().message}), false};
+      }
+      command->id = std::move(named).value();
+    }
     set_worker(command->worker, "client " + client, command->id);
     return {accepted_reply(*command), true};
+  }
+
+  // The id as the station records it: its pseudonym unless privacy.pseudonymise = false.
+  Result<std::string> worker_name(const std::string& id) {
+    if (!config.privacy.pseudonymise) return id;
+    if (!pseudonyms) {
+      auto opened = Pseudonyms::open(secret_path());
+      if (!opened) return opened.error();
+      pseudonyms = std::move(opened).value();
+    }
+    return pseudonyms->of(id);
+  }
+
+  std::filesystem::path secret_path() const {
+    return config.privacy.secret_file.empty() ? default_secret_path() : std::filesystem::path(config.privacy.secret_file);
   }
 
   DaemonMetrics metrics() const {
@@ -506,6 +533,14 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   d.source_name = (*source)->describe();
   if (!plan->paced) spdlog::info("replaying {} as fast as the estimator takes pairs (cameras.replay = \"fast\")", d.source_name);
 
+  // A secret file set explicitly is checked now (created if absent); the
+  // default one at the first worker id, so a station that names no worker
+  // needs no state directory.
+  if (d.config.privacy.pseudonymise && !d.config.privacy.secret_file.empty()) {
+    auto opened = Pseudonyms::open(d.secret_path());
+    if (!opened) return opened.error();
+    d.pseudonyms = std::move(opened).value();
+  }
   auto options = publisher_options(d.config, d.overrides);
   if (!options) return options.error();
   options->on_input = [&d](std::string_view line, const std::string& client) { return d.on_client_line(line, client); };

@@ -50,6 +50,7 @@ const std::vector<Field>& fields() {
       SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s), SW_FIELD(http, tls_cert), SW_FIELD(http, tls_key),
       SW_FIELD(http, tls_client_ca), SW_FIELD(http, token_file),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
+      SW_FIELD(privacy, pseudonymise), SW_FIELD(privacy, secret_file),
   };
   return table;
 }

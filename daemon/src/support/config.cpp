@@ -173,6 +173,9 @@ const std::vector<Key>& keys() {
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),
       int_key("log.status_interval_s", [](Config& c) -> int& { return c.log.status_interval_s; }, {1, 86400}),
+
+      bool_key("privacy.pseudonymise", [](Config& c) -> bool& { return c.privacy.pseudonymise; }),
+      string_key("privacy.secret_file", [](Config& c) -> std::string& { return c.privacy.secret_file; }),
   };
   return table;
 }

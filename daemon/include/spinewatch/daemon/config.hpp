@@ -146,6 +146,16 @@ struct Config {
     bool operator==(const Log&) const = default;
   } log;
 
+  struct Privacy {
+    // Worker ids (set_worker's "id") stored, published and logged as
+    // pseudonyms, "w-" + 12 hex of HMAC-SHA256(secret, id) (docs/security.md).
+    bool pseudonymise = true;
+    // The station's secret; "" = $STATE_DIRECTORY/pseudonym.key (else
+    // /var/lib/spinewatch/pseudonym.key), created 0600 when absent.
+    std::string secret_file = "";
+    bool operator==(const Privacy&) const = default;
+  } privacy;
+
   bool operator==(const Config&) const = default;
 };
 
