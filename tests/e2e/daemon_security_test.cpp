@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include <atomic>
+#include <regex>
 #include <functional>
 #include <thread>
 
@@ -332,6 +333,95 @@ TEST_F(DaemonSecurity, SecretsOthersCanReadAndUnprotectedNetworkBindsAreRefusedA
             "--listen 127.0.0.1:0");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("publish.tls_key"), std::string::npos) << r.output;
+}
+
+// One run of the daemon with a store and a Unix socket: names the worker
+// `id`, waits for a summary carrying the name the station gave, stops.
+struct WorkerRun {
+  std::string reply_id, summary_worker, log;
+  int exit_code = -1;
+};
+WorkerRun name_worker(const test::TempDir& dir, const std::string& id, const std::string& privacy) {
+  const auto config = write_config(dir.path(), "", "");
+  test::write_file(config, test::read_file(config) + "[exposure]\ninterval_s = 1\n[storage]\npath = " +
+                               quoted(dir / "store.sqlite") + "\n[privacy]\n" + privacy);
+  const auto sock = dir / "posture.sock";
+  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+                       dir / "daemon.log");
+  WorkerRun run;
+  auto client = when_up<test::LineClient>([&] { return test::LineClient::unix_socket(sock); }, daemon);
+  if (client && client->send_text("{\"command\":\"set_worker\",\"id\":\"" + id + "\"}\n")) {
+    const auto deadline = std::chrono::steady_clock::now() + test::scaled(20s);
+    while (std::chrono::steady_clock::now() < deadline && run.summary_worker.empty()) {
+      auto line = client->read_line(test::scaled(3s));
+      if (!line) break;
+      const auto j = nlohmann::json::parse(*line);
+      if (j.at("class") == "reply") run.reply_id = j.at("worker").value("id", "");
+      if (j.at("class") == "summary" && j.contains("worker")) run.summary_worker = j.at("worker");
+    }
+  }
+  daemon.signal(SIGTERM);
+  run.exit_code = daemon.wait_exit(test::scaled(5s)).value_or(-1);
+  run.log = daemon.log();
+  return run;
+}
+
+std::string store_bytes(const test::TempDir& dir) {
+  std::string all;
+  for (const char* suffix : {"", "-wal", "-journal"})
+    if (std::filesystem::exists(dir / ("store.sqlite" + std::string(suffix))))
+      all += test::read_file(dir / ("store.sqlite" + std::string(suffix)));
+  return all;
+}
+
+TEST_F(DaemonSecurity, WorkerIdsAreStoredPublishedAndLoggedOnlyAsAPseudonymStableAcrossRestarts) {
+  const std::string id = "alice.smith-17";
+  const auto secret = dir / "pseudonym.key";
+  const std::string privacy = "secret_file = " + quoted(secret) + "\n";
+  const auto first = name_worker(dir, id, privacy);
+  EXPECT_EQ(first.exit_code, 0) << first.log;
+  EXPECT_TRUE(std::regex_match(first.reply_id, std::regex("w-[0-9a-f]{12}"))) << first.reply_id << "\n" << first.log;
+  EXPECT_EQ(first.summary_worker, first.reply_id);
+  EXPECT_EQ(first.log.find(id), std::string::npos) << "the id in the log";
+  const std::string stored = store_bytes(dir);
+  EXPECT_NE(stored.find(first.reply_id), std::string::npos) << "the pseudonym is not in the store";
+  EXPECT_EQ(stored.find(id), std::string::npos) << "the id itself is in the store";
+  // The secret was made, readable by its owner only.
+  struct stat st {};
+  ASSERT_EQ(::stat(secret.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  // The daemon wrote no frames: only its store, the secret and its socket
+  // appear in the directory it was given (raw frames are only ever written
+  // by an explicit `spinewatch record`).
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    const std::string name = entry.path().filename();
+    EXPECT_TRUE(name == "spinewatch.toml" || name == "daemon.log" || name == "pseudonym.key" ||
+                name.rfind("store.sqlite", 0) == 0)
+        << "the daemon wrote " << name;
+  }
+  EXPECT_LT(stored.size(), 2u * 1024 * 1024) << "the store holds more than lines";
+
+  // The same id, after a restart: the same pseudonym.
+  const auto second = name_worker(dir, id, privacy);
+  EXPECT_EQ(second.reply_id, first.reply_id) << second.log;
+  // Another id: another pseudonym.
+  const auto other = name_worker(dir, "bob-2", privacy);
+  EXPECT_NE(other.reply_id, first.reply_id) << other.log;
+  EXPECT_TRUE(std::regex_match(other.reply_id, std::regex("w-[0-9a-f]{12}"))) << other.log;
+  // pseudonymise = false: the id as given, everywhere.
+  const auto plain = name_worker(dir, id, "pseudonymise = false\n");
+  EXPECT_EQ(plain.reply_id, id) << plain.log;
+  EXPECT_EQ(plain.summary_worker, id);
+  EXPECT_NE(store_bytes(dir).find(id), std::string::npos);
+
+  // A secret others can read is refused at start, naming the key and the mode.
+  ::chmod(secret.c_str(), 0644);
+  const auto config = write_config(dir.path(), "", "");
+  test::write_file(config, test::read_file(config) + "[privacy]\n" + privacy);
+  const auto r = test::run_command("timeout 30 " + std::string(SPINEWATCHD) + " --config '" + config.string() +
+                                   "' --listen none --unix '" + (dir / "p.sock").string() + "' 2>&1");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("privacy.secret_file " + secret.string() + ": mode 0644"), std::string::npos) << r.output;
 }
 
 }  // namespace
