@@ -132,6 +132,11 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
   }
   const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
   if (unix_path != "none") o.unix_socket = unix_path.empty() ? default_unix_socket_path() : std::filesystem::path(unix_path);
+  if (o.unix_socket && !config.publish.unix_socket_group.empty()) {
+    auto gid = group_id(config.publish.unix_socket_group, "publish.unix_socket_group");
+    if (!gid) return gid.error();
+    o.unix_socket_gid = *gid;
+  }
   if (!o.tcp && !o.unix_socket) return Error{"publishing is off on both TCP and the Unix socket: nothing would be served"};
   o.client_queue = static_cast<std::size_t>(config.publish.client_queue);
   o.max_clients = static_cast<std::size_t>(config.publish.max_clients);

@@ -2,6 +2,7 @@
 
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstring>
@@ -242,7 +243,8 @@ Status remove_stale_socket(asio::io_context& io, const std::filesystem::path& pa
   return Ok{};
 }
 
-Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unix_socket::acceptor>& out) {
+Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unsigned> gid,
+                 std::optional<unix_socket::acceptor>& out) {
   if (auto removed = remove_stale_socket(io, path); !removed) return removed;
   boost::system::error_code ec;
   unix_socket::acceptor acceptor(io);
@@ -251,6 +253,11 @@ Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::o
     return Error{fmt::format("unix socket {}: cannot bind: {}", path.string(), ec.message())};
   if (::chmod(path.c_str(), 0660) != 0)
     return Error{fmt::format("unix socket {}: cannot set mode 0660: {}", path.string(), std::strerror(errno))};
+  // Readers in that group (systemd: SupplementaryGroups=) may connect; a
+  // process may give its file to any group it is a member of.
+  if (gid && ::chown(path.c_str(), static_cast<uid_t>(-1), static_cast<gid_t>(*gid)) != 0)
+    return Error{fmt::format("unix socket {}: cannot give it to group {} (publish.unix_socket_group; the daemon must be "
+                             "a member): {}", path.string(), *gid, std::strerror(errno))};
   if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
     return Error{fmt::format("unix socket {}: cannot listen: {}", path.string(), ec.message())};
   out.emplace(std::move(acceptor));
@@ -271,7 +278,7 @@ Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& opti
   if (options.tcp)
     if (auto bound = bind_tcp(impl.io, *options.tcp, impl.tcp_acceptor, impl.tcp_port); !bound) return bound.error();
   if (options.unix_socket)
-    if (auto bound = bind_unix(impl.io, *options.unix_socket, impl.unix_acceptor); !bound) return bound.error();
+    if (auto bound = bind_unix(impl.io, *options.unix_socket, options.unix_socket_gid, impl.unix_acceptor); !bound) return bound.error();
   impl.owns_unix_path = impl.unix_acceptor.has_value();
   if (impl.tcp_acceptor) impl.accept_next(*impl.tcp_acceptor, "tcp");
   if (impl.unix_acceptor) impl.accept_next(*impl.unix_acceptor, "unix");

@@ -142,6 +142,7 @@ const std::vector<Key>& keys() {
       string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
       bool_key("publish.allow_unauthenticated", [](Config& c) -> bool& { return c.publish.allow_unauthenticated; }),
       string_key("publish.unix_socket", [](Config& c) -> std::string& { return c.publish.unix_socket; }),
+      string_key("publish.unix_socket_group", [](Config& c) -> std::string& { return c.publish.unix_socket_group; }),
       int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
       int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),
       string_key("publish.tls_cert", [](Config& c) -> std::string& { return c.publish.tls_cert; }),

@@ -95,6 +95,7 @@ struct Config {
   struct Publish {
     std::string listen = "127.0.0.1:7117";  // HOST:PORT or "none"
     std::string unix_socket = "";           // "" = $RUNTIME_DIRECTORY/posture.sock, "none" = off
+    std::string unix_socket_group = "";     // the socket's group (mode 0660); "" = the daemon's
     int client_queue = 256;                 // lines buffered per client before it is dropped
     int max_clients = 32;
     // The stream has no authentication yet (docs/security.md): a TCP address

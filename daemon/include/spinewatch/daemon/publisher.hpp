@@ -39,6 +39,8 @@ struct ClientInputReply {
 struct PublisherOptions {
   std::optional<TcpEndpoint> tcp;
   std::optional<std::filesystem::path> unix_socket;
+  // The socket file's group after bind (mode 0660 either way); unset: the daemon's own.
+  std::optional<unsigned> unix_socket_gid;
   std::size_t client_queue = 256;  // lines queued per client before it is dropped
   std::size_t max_clients = 32;    // further connections are closed at once
   std::size_t inbox = 1024;        // lines waiting for the I/O thread (oldest dropped)
@@ -78,6 +80,8 @@ Result<TcpEndpoint> parse_listen_address(const std::string& text);
 // Only this machine can connect: a numeric loopback address (127.0.0.0/8,
 // ::1) or "localhost". A name that must be resolved is not loopback.
 bool is_loopback(const TcpEndpoint& endpoint);
+// A group's id by name (publish.unix_socket_group); errors name `key` and the group.
+Result<unsigned> group_id(const std::string& name, std::string_view key);
 // $RUNTIME_DIRECTORY/posture.sock (its first entry), else /run/spinewatch/posture.sock.
 std::filesystem::path default_unix_socket_path();
 
