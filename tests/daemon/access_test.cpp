@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/daemon/access.hpp"
+#include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/pseudonym.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "test_client.hpp"
@@ -142,6 +143,31 @@ TEST(UnixSocketGroup, TheOwnPrimaryGroupIsGivenTheSocketAnUnknownOneRefused) {
   EXPECT_EQ(st.st_mode & 0777, 0660u);
   auto client = test::LineClient::unix_socket(dir / "p.sock");
   EXPECT_EQ(client.read_line(), R"({"class":"hello","v":1})");
+}
+
+TEST(AccessConfig, TheKeysAreTakenAndBadValuesNamedWithTheirLine) {
+  auto c = parse_config("[publish]\ntls_cert = \"/c.pem\"\ntls_key = \"/k.pem\"\ntls_client_ca = \"/ca.pem\"\n"
+                        "token_file = \"/t\"\nauth_timeout_s = 2.5\nunix_socket_group = \"readers\"\n"
+                        "[http]\ntls_cert = \"/hc.pem\"\ntoken_file = \"/ht\"\n[privacy]\npseudonymise = false\n"
+                        "secret_file = \"/s.key\"\n",
+                        "t.toml");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c->publish.tls_cert, "/c.pem");
+  EXPECT_EQ(c->publish.tls_key, "/k.pem");
+  EXPECT_EQ(c->publish.tls_client_ca, "/ca.pem");
+  EXPECT_EQ(c->publish.token_file, "/t");
+  EXPECT_EQ(c->publish.auth_timeout_s, 2.5);
+  EXPECT_EQ(c->publish.unix_socket_group, "readers");
+  EXPECT_EQ(c->http.tls_cert, "/hc.pem");
+  EXPECT_EQ(c->http.token_file, "/ht");
+  EXPECT_FALSE(c->privacy.pseudonymise);
+  EXPECT_EQ(c->privacy.secret_file, "/s.key");
+  EXPECT_EQ(parse_config("[privacy]\npseudonymise = \"yes\"\n", "t.toml").error().message,
+            "t.toml:2: privacy.pseudonymise: expected true or false, got string");
+  EXPECT_EQ(parse_config("[publish]\n\nauth_timeout_s = 0\n", "t.toml").error().message,
+            "t.toml:3: publish.auth_timeout_s: 0 is out of range [0.1, 300]");
+  EXPECT_EQ(parse_config("[http]\ntoken_file = 7\n", "t.toml").error().message,
+            "t.toml:2: http.token_file: expected a string, got integer");
 }
 
 }  // namespace
