@@ -24,10 +24,10 @@ namespace spinewatch {
 
 // A listener's access keys as configured ("" = not set).
 struct AccessFiles {
-  std::string tls_cert;       // PEM: the station's certificate (chain)
-  std::string tls_key;        // PEM: its private key, mode 0600 or stricter
-  std::string tls_client_ca;  // PEM: clients must present a certificate this CA signed
-  std::string token_file;     // bearer tokens, one a line, "token" or "name:token"; mode 0600 or stricter
+  std::string tls_cert{};       // PEM: the station's certificate (chain)
+  std::string tls_key{};        // PEM: its private key, mode 0600 or stricter
+  std::string tls_client_ca{};  // PEM: clients must present a certificate this CA signed
+  std::string token_file{};     // bearer tokens, one a line, "token" or "name:token"; mode 0600 or stricter
 };
 
 // Bearer tokens. Only SHA-256 digests are kept; a presented token is
@@ -51,8 +51,8 @@ class TokenSet {
 };
 
 struct Access {
-  std::shared_ptr<boost::asio::ssl::context> tls;  // null: plain TCP
-  std::shared_ptr<const TokenSet> tokens;          // null: no token asked for
+  std::shared_ptr<boost::asio::ssl::context> tls{};  // null: plain TCP
+  std::shared_ptr<const TokenSet> tokens{};          // null: no token asked for
   bool client_certificates = false;                // the TLS handshake requires one
   // Someone is asked who they are (a certificate or a token), not just
   // offered encryption.

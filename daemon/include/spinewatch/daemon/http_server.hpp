@@ -33,7 +33,7 @@ struct HttpOptions {
   int stream_send_buffer = 64 * 1024;  // SO_SNDBUF of /stream connections: bounds what a viewer holds
   // TLS (the handshake within `timeout`) and who may ask: with tokens,
   // every request needs Authorization: Bearer (docs/security.md).
-  Access access;
+  Access access{};
 };
 
 // What the server asks the daemon for, on the I/O thread (must not block).

@@ -58,7 +58,7 @@ struct PublisherOptions {
   // The TCP listener's TLS and authentication (docs/security.md); the Unix
   // socket is guarded by its file mode and group instead. A TLS handshake,
   // and with tokens the auth line, must complete within auth_timeout.
-  Access access;
+  Access access{};
   std::chrono::milliseconds auth_timeout{10000};
 };
 
