@@ -1,8 +1,10 @@
 #pragma once
 // A blocking TLS client for the security tests: connects to 127.0.0.1,
 // checks the station's certificate against the test CA, optionally
-// presents a client certificate, reads lines and HTTP responses with
-// receive timeouts (SO_RCVTIMEO), so a test never hangs on a silent daemon.
+// presents a client certificate, reads lines and HTTP responses. Reads
+// block until the daemon sends or closes (Asio's blocking reads wait out
+// SO_RCVTIMEO): the tests only read where the daemon's own deadlines
+// (auth_timeout_s, timeout_s) bound the wait, and ctest's timeout bounds the rest.
 #include <sys/socket.h>
 
 #include <chrono>
@@ -31,7 +33,7 @@ class TlsClient {
     }
     stream_.emplace(io_, context_);
     stream_->lowest_layer().connect({boost::asio::ip::make_address("127.0.0.1"), port});
-    set_timeout(timeout);
+    set_timeout(timeout);  // bounds connect-time writes; see above for reads
     stream_->handshake(boost::asio::ssl::stream_base::client);
   }
 
