@@ -93,8 +93,9 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
       // Under the sanitizers that build takes 5-7 s on the estimator thread,
       // and the pairs dropped meanwhile are honestly a gap, so a whole
       // second may hold no pair at all; in a release build it takes 0.4 s.
-      if (test::kTimeScale == 1)
+      if (test::kTimeScale == 1) {
         EXPECT_GT(c.at("tracked_s").get<double>() + c.at("init_s").get<double>(), 0.5) << interval.dump();
+      }
     }
     if (i > 0 && !summaries[i - 2].at("partial").get<bool>()) {
       EXPECT_EQ(interval.at("start_ns"), summaries[i - 2].at("end_ns"));  // back to back within a shift
