@@ -25,7 +25,8 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto config = dir / "spinewatch.toml";
   test::write_file(config, "[station]\nname = \"bench 3\"\n[cameras]\nsource = \"recording\"\nrecording = \"" +
-                               rec.string() + "\"\ncalibration = \"/nonexistent/cal.yaml\"\n[exposure]\ninterval_s = 1\n");
+                               rec.string() + "\"\ncalibration = \"/nonexistent/cal.yaml\"\n[exposure]\ninterval_s = 1\n"
+                           "[privacy]\nsecret_file = \"" + (dir / "pseudonym.key").string() + "\"\n");
   const auto sock = dir / "p.sock";
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
@@ -102,10 +103,17 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
   }
   EXPECT_TRUE(summaries[summaries.size() - 2].at("partial").get<bool>()) << "no partial interval at stop";
   // The named worker: the summaries before carry no worker, the last ones
-  // carry w-17; the change closed a shift (a new worker, a new shift).
+  // carry w-17's pseudonym (privacy.pseudonymise, on by default), computed
+  // here with the openssl CLI from the station's secret; the id itself
+  // appears in no line. The change closed a shift (a new worker, a new shift).
   ASSERT_TRUE(named);
+  const auto mac = test::run_command("printf %s w-17 | openssl dgst -sha256 -hmac \"$(cat '" +
+                                     (dir / "pseudonym.key").string() + "')\" | sed 's/.*= //'");
+  ASSERT_EQ(mac.exit_code, 0) << mac.output;
+  const std::string worker = "w-" + mac.output.substr(0, 12);
+  EXPECT_EQ(text.find("\"w-17\""), std::string::npos) << "the worker id itself on the stream";
   EXPECT_FALSE(summaries.front().contains("worker"));
-  EXPECT_EQ(summaries.back().value("worker", ""), "w-17");
+  EXPECT_EQ(summaries.back().value("worker", ""), worker);
   std::size_t shifts_closed_partial = 0;
   for (std::size_t i = 0; i + 1 < summaries.size(); i += 2)
     if (summaries[i].at("partial").get<bool>() && !summaries[i].contains("worker") && i > 0) ++shifts_closed_partial;
@@ -113,7 +121,7 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
   // The last shift's tracked time is the sum of its intervals'.
   double tracked = 0;
   for (std::size_t i = 0; i < summaries.size(); i += 2)
-    if (summaries[i].value("worker", "") == "w-17") tracked += summaries[i].at("coverage").at("tracked_s").get<double>();
+    if (summaries[i].value("worker", "") == worker) tracked += summaries[i].at("coverage").at("tracked_s").get<double>();
   EXPECT_NEAR(summaries.back().at("coverage").at("tracked_s").get<double>(), tracked, 1e-4);
 }
 

@@ -25,6 +25,7 @@
 #include "spinewatch/daemon/exposure_options.hpp"
 #include "spinewatch/daemon/notifier.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
+#include "spinewatch/daemon/pseudonym.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/daemon/source_plan.hpp"
@@ -115,18 +116,30 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
     const std::string where = overrides.listen ? "--listen " : "publish.listen: ";
     auto endpoint = parse_listen_address(listen);
     if (!endpoint) return Error{where + endpoint.error().message};
+    const Config::Publish& c = config.publish;
+    auto access = load_access({c.tls_cert, c.tls_key, c.tls_client_ca, c.token_file}, "publish");
+    if (!access) return access.error();
     // Safe by default (docs/security.md): the stream is health data about
-    // identifiable workers, and nothing authenticates its clients yet.
-    if (!is_loopback(*endpoint) && !config.publish.allow_unauthenticated)
+    // identifiable workers; a network bind needs TLS and an authentication,
+    // or the site's explicit acceptance.
+    if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
       return Error{fmt::format(
-          "{}{}: not a loopback address, and the posture stream has no authentication: anyone who can reach the "
-          "port would read the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH tunnel or an "
-          "authenticating proxy), or set [publish] allow_unauthenticated = true to accept that (docs/security.md)",
-          where, listen)};
+          "{}{}: not a loopback address, and the posture stream is not protected ({}): anyone who can reach the "
+          "port would read the workers' postures. Set [publish] tls_cert and tls_key with token_file or "
+          "tls_client_ca, or listen on 127.0.0.1 (and reach it through an SSH tunnel), or set [publish] "
+          "allow_unauthenticated = true to accept that (docs/security.md)",
+          where, listen, access->describe())};
+    o.access = std::move(access).value();
+    o.auth_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(c.auth_timeout_s * 1000));
     o.tcp = *endpoint;
   }
   const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
   if (unix_path != "none") o.unix_socket = unix_path.empty() ? default_unix_socket_path() : std::filesystem::path(unix_path);
+  if (o.unix_socket && !config.publish.unix_socket_group.empty()) {
+    auto gid = group_id(config.publish.unix_socket_group, "publish.unix_socket_group");
+    if (!gid) return gid.error();
+    o.unix_socket_gid = *gid;
+  }
   if (!o.tcp && !o.unix_socket) return Error{"publishing is off on both TCP and the Unix socket: nothing would be served"};
   o.client_queue = static_cast<std::size_t>(config.publish.client_queue);
   o.max_clients = static_cast<std::size_t>(config.publish.max_clients);
@@ -141,14 +154,19 @@ Result<std::optional<HttpOptions>> http_options(const Config& config, const Daem
   const std::string where = overrides.http ? "--http " : "http.listen: ";
   auto endpoint = parse_listen_address(listen);
   if (!endpoint) return Error{where + endpoint.error().message};
-  if (!is_loopback(*endpoint) && !config.http.allow_unauthenticated)
+  const Config::Http& c = config.http;
+  auto access = load_access({c.tls_cert, c.tls_key, c.tls_client_ca, c.token_file}, "http");
+  if (!access) return access.error();
+  if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
     return Error{fmt::format(
-        "{}{}: not a loopback address, and the live view has no authentication: anyone who can reach the port "
-        "would see the station's views and the workers' postures. Listen on 127.0.0.1 (and reach it through an SSH "
-        "tunnel: docs/daemon.md), or set [http] allow_unauthenticated = true to accept that (docs/security.md)",
-        where, listen)};
+        "{}{}: not a loopback address, and the live view is not protected ({}): anyone who can reach the port "
+        "would see the station's views and the workers' postures. Set [http] tls_cert and tls_key with token_file "
+        "or tls_client_ca, or listen on 127.0.0.1 (and reach it through an SSH tunnel: docs/daemon.md), or set "
+        "[http] allow_unauthenticated = true to accept that (docs/security.md)",
+        where, listen, access->describe())};
   HttpOptions o;
   o.endpoint = *endpoint;
+  o.access = std::move(access).value();
   o.max_connections = static_cast<std::size_t>(config.http.max_connections);
   o.timeout = std::chrono::milliseconds(static_cast<std::int64_t>(config.http.timeout_s * 1000));
   return std::optional<HttpOptions>(o);
@@ -199,7 +217,8 @@ struct Daemon::Impl {
   // whose I/O thread sets it).
   std::mutex worker_mutex;
   std::optional<KnownWorker> pending_worker;
-  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with
+  std::optional<std::string> pending_worker_id;  // with pending_worker: the id it came with (its pseudonym)
+  std::optional<Pseudonyms> pseudonyms;          // I/O thread; opened at start or at the first id
   std::unique_ptr<Publisher> publisher;
   std::unique_ptr<SummaryStream> summaries;  // estimator thread only (docs/exposure.md)
   std::unique_ptr<Store> store;              // [storage] path set (docs/storage.md)
@@ -364,8 +383,33 @@ struct Daemon::Impl {
       spdlog::warn("client {}: {}", client, command.error().message);
       return {rejected_reply(command.error()), false};
     }
+    if (command->id) {
+      // From here on only the pseudonym exists: the store, the stream, the
+      // log and the reply itself carry it (docs/security.md).
+      auto named = worker_name(*command->id);
+      if (!named) {
+        spdlog::error("client {}: set_worker refused: {}", client, named.error().message);
+        return {rejected_reply(Error{"id: " + named.error().message}), false};
+      }
+      command->id = std::move(named).value();
+    }
     set_worker(command->worker, "client " + client, command->id);
     return {accepted_reply(*command), true};
+  }
+
+  // The id as the station records it: its pseudonym unless privacy.pseudonymise = false.
+  Result<std::string> worker_name(const std::string& id) {
+    if (!config.privacy.pseudonymise) return id;
+    if (!pseudonyms) {
+      auto opened = Pseudonyms::open(secret_path());
+      if (!opened) return opened.error();
+      pseudonyms = std::move(opened).value();
+    }
+    return pseudonyms->of(id);
+  }
+
+  std::filesystem::path secret_path() const {
+    return config.privacy.secret_file.empty() ? default_secret_path() : std::filesystem::path(config.privacy.secret_file);
   }
 
   DaemonMetrics metrics() const {
@@ -555,10 +599,18 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   d.source_name = (*source)->describe();
   if (!plan->paced) spdlog::info("replaying {} as fast as the estimator takes pairs (cameras.replay = \"fast\")", d.source_name);
 
+  // A secret file set explicitly is checked now (created if absent); the
+  // default one at the first worker id, so a station that names no worker
+  // needs no state directory.
+  if (d.config.privacy.pseudonymise && !d.config.privacy.secret_file.empty()) {
+    auto opened = Pseudonyms::open(d.secret_path());
+    if (!opened) return opened.error();
+    d.pseudonyms = std::move(opened).value();
+  }
   auto options = publisher_options(d.config, d.overrides);
   if (!options) return options.error();
   options->on_input = [&d](std::string_view line, const std::string& client) { return d.on_client_line(line, client); };
-  if (options->tcp && !is_loopback(*options->tcp)) {
+  if (options->tcp && !is_loopback(*options->tcp) && !options->access.safe_for_network()) {
     d.hello_warnings.push_back(fmt::format(
         "unauthenticated: tcp {}:{} serves the posture stream to anyone who can reach it (publish.allow_unauthenticated)",
         options->tcp->host, options->tcp->port));
@@ -566,7 +618,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
   }
   auto http = http_options(d.config, d.overrides);
   if (!http) return http.error();
-  if (*http && !is_loopback((*http)->endpoint)) {
+  if (*http && !is_loopback((*http)->endpoint) && !(*http)->access.safe_for_network()) {
     d.hello_warnings.push_back(fmt::format(
         "unauthenticated: http {}:{} serves the live view to anyone who can reach it (http.allow_unauthenticated)",
         (*http)->endpoint.host, (*http)->endpoint.port));
@@ -594,7 +646,8 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
       Publisher::start(*options, make_hello_line(d.config.station.name, d.rig, d.source_name, d.hello_warnings));
   if (!publisher) return publisher.error();
   d.publisher = std::move(publisher).value();
-  if (options->tcp) spdlog::info("publishing on tcp {}:{}", options->tcp->host, d.publisher->tcp_port());
+  if (options->tcp)
+    spdlog::info("publishing on tcp {}:{} ({})", options->tcp->host, d.publisher->tcp_port(), options->access.describe());
   if (options->unix_socket) spdlog::info("publishing on unix socket {}", options->unix_socket->string());
 
   d.poll_trigger_controller();  // trigger.controller: set up now, or retried while running
@@ -662,8 +715,9 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     auto server = HttpServer::start(d.publisher->io_context(), **http, std::move(handlers), std::move(station), *d.live);
     if (!server) return server.error();
     d.http = std::move(server).value();
-    spdlog::info("live view on http://{}:{}/ ({} pictures/s at most, camera pixels {})", (*http)->endpoint.host,
-                 d.http->port(), h.fps, h.camera_pixels ? "shown" : "hidden");
+    spdlog::info("live view on {}://{}:{}/ ({}; {} pictures/s at most, camera pixels {})",
+                 (*http)->access.tls ? "https" : "http", (*http)->endpoint.host, d.http->port(),
+                 (*http)->access.describe(), h.fps, h.camera_pixels ? "shown" : "hidden");
   }
 
   d.pipeline = std::make_unique<Pipeline>(

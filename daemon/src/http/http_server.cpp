@@ -2,13 +2,19 @@
 
 #include <future>
 
+#include <boost/asio/ssl.hpp>
+
+#include "../net/tcp_listener.hpp"
 #include "http_session.hpp"
 
 namespace spinewatch {
 
 namespace asio = boost::asio;
+namespace beast = boost::beast;
 using tcp = asio::ip::tcp;
 using http_detail::HttpSession;
+using http_detail::SessionBase;
+using http_detail::TlsStream;
 
 void HttpServer::Impl::accept_next() {
   acceptor->async_accept([self = shared_from_this()](const boost::system::error_code& ec, tcp::socket socket) {
@@ -41,14 +47,19 @@ void HttpServer::Impl::admit(tcp::socket socket) {
     spdlog::debug("http: connection refused: {} open (http.max_connections)", sessions.size());
     return;
   }
-  auto session = std::make_shared<HttpSession>(std::move(socket), shared_from_this());
+  std::shared_ptr<SessionBase> session;
+  if (options.access.tls)
+    session = std::make_shared<HttpSession<TlsStream>>(TlsStream(beast::tcp_stream(std::move(socket)), *options.access.tls),
+                                                       shared_from_this());
+  else
+    session = std::make_shared<HttpSession<beast::tcp_stream>>(beast::tcp_stream(std::move(socket)), shared_from_this());
   sessions.insert(session);
   connections.store(sessions.size());
   connections_total.fetch_add(1);
   session->start();
 }
 
-void HttpServer::Impl::forget(const std::shared_ptr<HttpSession>& session) {
+void HttpServer::Impl::forget(const std::shared_ptr<SessionBase>& session) {
   sessions.erase(session);
   connections.store(sessions.size());
 }
@@ -58,7 +69,7 @@ void HttpServer::Impl::deliver(std::shared_ptr<const LiveFrame> frame) {
   latest = frame;
   if (frame->jpeg) latest_picture = frame;
   // A session may close (and leave `sessions`) while frames are delivered.
-  std::vector<std::shared_ptr<HttpSession>> all(sessions.begin(), sessions.end());
+  std::vector<std::shared_ptr<SessionBase>> all(sessions.begin(), sessions.end());
   for (auto& s : all) s->on_frame(frame);
 }
 
@@ -71,26 +82,10 @@ Result<std::unique_ptr<HttpServer>> HttpServer::start(asio::io_context& io, Http
   auto impl = std::make_shared<Impl>(io, std::move(options), std::move(handlers), std::move(station), live);
   const TcpEndpoint& where = impl->options.endpoint;
   const std::string label = fmt::format("http {}:{}", where.host, where.port);
-  boost::system::error_code ec;
-  tcp::endpoint endpoint;
-  auto address = asio::ip::make_address(where.host, ec);
-  if (!ec) {
-    endpoint = tcp::endpoint(address, where.port);
-  } else {
-    tcp::resolver resolver(io);
-    auto results = resolver.resolve(where.host, std::to_string(where.port), ec);
-    if (ec || results.empty())
-      return Error{fmt::format("{}: cannot resolve \"{}\": {}", label, where.host, ec.message())};
-    endpoint = *results.begin();
-  }
-  tcp::acceptor acceptor(io);
-  if (acceptor.open(endpoint.protocol(), ec); ec) return Error{fmt::format("{}: {}", label, ec.message())};
-  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
-  if (acceptor.bind(endpoint, ec); ec) return Error{fmt::format("{}: cannot bind: {}", label, ec.message())};
-  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
-    return Error{fmt::format("{}: cannot listen: {}", label, ec.message())};
-  impl->port = acceptor.local_endpoint().port();
-  impl->acceptor.emplace(std::move(acceptor));
+  auto acceptor = net::listen_tcp(io, where, label);
+  if (!acceptor) return acceptor.error();
+  impl->port = acceptor->local_endpoint().port();
+  impl->acceptor.emplace(std::move(acceptor).value());
   // The acceptor is used from the I/O thread from here on.
   asio::post(io, [impl] { impl->accept_next(); });
   return std::unique_ptr<HttpServer>(new HttpServer(impl));
@@ -109,7 +104,7 @@ void HttpServer::stop() {
       impl->stopped = true;
       boost::system::error_code ignored;
       if (impl->acceptor) impl->acceptor->close(ignored);
-      std::vector<std::shared_ptr<HttpSession>> all(impl->sessions.begin(), impl->sessions.end());
+      std::vector<std::shared_ptr<SessionBase>> all(impl->sessions.begin(), impl->sessions.end());
       for (auto& s : all) s->close();
       impl->latest.reset();
       impl->latest_picture.reset();

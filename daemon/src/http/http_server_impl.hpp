@@ -11,12 +11,21 @@
 
 #include <boost/asio.hpp>
 
+#include <spdlog/spdlog.h>
+
 #include "spinewatch/daemon/http_server.hpp"
 
 namespace spinewatch {
 
 namespace http_detail {
-class HttpSession;
+// One connection, plain or TLS (http_session.hpp), as the server sees it.
+class SessionBase {
+ public:
+  virtual ~SessionBase() = default;
+  virtual void start() = 0;
+  virtual void close() = 0;
+  virtual void on_frame(const std::shared_ptr<const LiveFrame>& frame) = 0;
+};
 }
 
 struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
@@ -31,16 +40,24 @@ struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
   std::optional<boost::asio::ip::tcp::acceptor> acceptor;
   std::uint16_t port = 0;
   // I/O thread only:
-  std::set<std::shared_ptr<http_detail::HttpSession>> sessions;
+  std::set<std::shared_ptr<http_detail::SessionBase>> sessions;
   std::shared_ptr<const LiveFrame> latest, latest_picture;
   bool stopped = false;
 
   std::atomic<std::uint64_t> connections{0}, connections_total{0}, rejected{0}, timed_out{0}, bad_requests{0},
-      requests{0}, stream_viewers{0}, stream_frames{0}, stream_frames_skipped{0};
+      requests{0}, stream_viewers{0}, stream_frames{0}, stream_frames_skipped{0}, auth_failures{0}, tls_failures{0};
+  LogLimiter refusal_log;  // I/O thread only
+
+  // A refused client, logged at most once per 10 s (never the token).
+  void refused(const std::string& peer, std::string_view why) {
+    if (auto held = refusal_log.admit())
+      spdlog::warn("http: {} refused: {}{}", peer, why,
+                   *held ? " (" + std::to_string(*held) + " more refusals not logged in the last 10 s)" : std::string());
+  }
 
   void accept_next();
   void admit(boost::asio::ip::tcp::socket socket);
-  void forget(const std::shared_ptr<http_detail::HttpSession>& session);
+  void forget(const std::shared_ptr<http_detail::SessionBase>& session);
   void deliver(std::shared_ptr<const LiveFrame> frame);
 
   HttpStats stats() const {
@@ -54,6 +71,8 @@ struct HttpServer::Impl : std::enable_shared_from_this<HttpServer::Impl> {
     s.stream_viewers = stream_viewers.load();
     s.stream_frames = stream_frames.load();
     s.stream_frames_skipped = stream_frames_skipped.load();
+    s.auth_failures = auth_failures.load();
+    s.tls_failures = tls_failures.load();
     return s;
   }
   DaemonMetrics metrics() const {

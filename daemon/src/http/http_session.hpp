@@ -14,6 +14,7 @@
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -41,31 +42,54 @@ inline constexpr std::int64_t kWantedNs = 5'000'000'000;
 inline constexpr auto kStateWait = std::chrono::milliseconds(1500);
 inline constexpr auto kSnapshotWait = std::chrono::milliseconds(3000);
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+
+// Stream: beast::tcp_stream, or TlsStream when the server has a certificate.
+template <class Stream>
+class HttpSession final : public SessionBase, public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(tcp::socket socket, std::shared_ptr<HttpServer::Impl> server)
-      : stream_(std::move(socket)), server_(std::move(server)), buffer_(server_->options.max_header_bytes),
+  static constexpr bool kTls = std::is_same_v<Stream, TlsStream>;
+
+  HttpSession(Stream stream, std::shared_ptr<HttpServer::Impl> server)
+      : stream_(std::move(stream)), server_(std::move(server)), buffer_(server_->options.max_header_bytes),
         wait_timer_(server_->io) {}
 
-  void start() { read_request(); }
+  void start() override {
+    if constexpr (kTls) {
+      // A plain-text client fails here at its first bytes; a silent one at the timeout.
+      lowest().expires_after(server_->options.timeout);
+      stream_.async_handshake(asio::ssl::stream_base::server, [self = this->shared_from_this()](beast::error_code ec) {
+        if (self->closed_) return;
+        if (ec) {
+          self->server_->tls_failures.fetch_add(1);
+          self->server_->refused(self->peer(), "TLS handshake failed: " + ec.message());
+          self->close();
+          return;
+        }
+        self->read_request();
+      });
+    } else {
+      read_request();
+    }
+  }
 
   // Closes the socket; its pending operations end with operation_aborted.
-  void close() {
+  void close() override {
     if (closed_) return;
     closed_ = true;
     wait_timer_.cancel();
     beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-    stream_.close();
+    lowest().socket().shutdown(tcp::socket::shutdown_both, ignored);
+    lowest().close();
     if (viewing_) {
       server_->live.remove_viewer();
       server_->stream_viewers.fetch_sub(1);
     }
-    server_->forget(shared_from_this());
+    server_->forget(this->shared_from_this());
   }
 
   // A new sample from the live view.
-  void on_frame(const std::shared_ptr<const LiveFrame>& frame) {
+  void on_frame(const std::shared_ptr<const LiveFrame>& frame) override {
     if (closed_) return;
     if (viewing_) {
       if (frame->jpeg) send_part(frame->jpeg);
@@ -82,9 +106,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(server_->options.max_header_bytes));
     parser_->body_limit(1024);
-    stream_.expires_after(server_->options.timeout);
+    lowest().expires_after(server_->options.timeout);
     http::async_read(stream_, buffer_, *parser_,
-                     [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+                     [self = this->shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
   }
 
   void on_read(beast::error_code ec) {
@@ -120,6 +144,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void handle(const http::request<http::string_body>& request) {
     keep_alive_ = request.keep_alive();
+    if (server_->options.access.tokens && !authorized(request)) return;
     const HttpRoute route = route_of(std::string_view(request.target().data(), request.target().size()));
     if (route == HttpRoute::NotFound) {
       respond(http::status::not_found, "text/plain", "not found: the live view serves /, /stream, /snapshot, /state, /metrics\n");
@@ -178,10 +203,33 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     }
   }
 
+  // Authorization: Bearer <token> (RFC 6750), for every path /metrics
+  // included; otherwise 401 with the challenge, counted, and the connection closed.
+  bool authorized(const http::request<http::string_body>& request) {
+    const auto header = request[http::field::authorization];
+    std::string_view value(header.data(), header.size());
+    constexpr std::string_view kScheme = "bearer ";
+    std::optional<std::string> who;
+    const bool bearer = value.size() > kScheme.size() &&
+                        beast::iequals(beast::string_view(value.data(), kScheme.size()), beast::string_view(kScheme.data(), kScheme.size()));
+    if (bearer) {
+      value.remove_prefix(kScheme.size());
+      while (!value.empty() && value.front() == ' ') value.remove_prefix(1);
+      who = server_->options.access.tokens->match(value);
+    }
+    if (who) return true;
+    server_->auth_failures.fetch_add(1);
+    server_->refused(peer(), bearer ? "wrong bearer token" : "no bearer token (Authorization: Bearer ...)");
+    respond(http::status::unauthorized, "text/plain",
+            bearer ? "unauthorized: wrong token\n" : "unauthorized: send Authorization: Bearer <token>\n", false, {},
+            bearer ? R"(Bearer realm="spinewatch", error="invalid_token")" : R"(Bearer realm="spinewatch")");
+    return false;
+  }
+
   void wait_for_sample(HttpRoute what, std::chrono::milliseconds how_long) {
     waiting_ = what;
     wait_timer_.expires_after(how_long);
-    wait_timer_.async_wait([self = shared_from_this(), what](const boost::system::error_code& ec) {
+    wait_timer_.async_wait([self = this->shared_from_this(), what](const boost::system::error_code& ec) {
       if (ec || self->closed_ || self->waiting_ != what) return;
       if (what == HttpRoute::State) {
         self->answer_state();  // with what there is (perhaps nothing: the pipeline is stalled)
@@ -209,13 +257,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void respond(http::status status, std::string_view type, std::string body, bool keep = true,
-               std::string allow = {}) {
+               std::string allow = {}, std::string www_authenticate = {}) {
     auto response = std::make_shared<Response>(status, 11);
     response->set(http::field::server, "spinewatchd");
     response->set(http::field::content_type, beast::string_view(type.data(), type.size()));
     response->set(http::field::cache_control, "no-store");
     response->set("X-Content-Type-Options", "nosniff");
     if (!allow.empty()) response->set(http::field::allow, allow);
+    if (!www_authenticate.empty()) response->set(http::field::www_authenticate, www_authenticate);
     if (type.starts_with("text/html"))
       response->set("Content-Security-Policy",
                     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self'; "
@@ -224,9 +273,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->keep_alive(keep && keep_alive_);
     response->prepare_payload();
     server_->requests.fetch_add(1);
-    stream_.expires_after(server_->options.timeout);
+    lowest().expires_after(server_->options.timeout);
     http::async_write(stream_, *response,
-                      [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+                      [self = this->shared_from_this(), response](beast::error_code ec, std::size_t) {
                         if (ec == beast::error::timeout) self->server_->timed_out.fetch_add(1);
                         if (self->closed_) return;
                         if (ec || !response->keep_alive()) {
@@ -244,18 +293,20 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     server_->stream_viewers.fetch_add(1);
     server_->requests.fetch_add(1);
     beast::error_code ignored;
-    stream_.socket().set_option(asio::socket_base::send_buffer_size(server_->options.stream_send_buffer), ignored);
+    lowest().socket().set_option(asio::socket_base::send_buffer_size(server_->options.stream_send_buffer), ignored);
     header_ = fmt::format(
         "HTTP/1.1 200 OK\r\nServer: spinewatchd\r\nContent-Type: multipart/x-mixed-replace;boundary={}\r\n"
         "Cache-Control: no-store\r\nPragma: no-cache\r\nConnection: close\r\nX-Content-Type-Options: nosniff\r\n\r\n",
         kBoundary);
     writing_ = true;
-    stream_.expires_after(server_->options.timeout);
-    asio::async_write(stream_, asio::buffer(header_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    lowest().expires_after(server_->options.timeout);
+    asio::async_write(stream_, asio::buffer(header_), [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       self->part_written(ec, false);
     });
-    // A viewer sends nothing more; reading notices when it goes.
-    stream_.socket().async_read_some(asio::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    // A viewer sends nothing more; reading notices when it goes. Read from
+    // the socket itself, past the deadline the writes set (under TLS the
+    // bytes skipped are at most the client's close_notify: nothing to answer).
+    lowest().socket().async_read_some(asio::buffer(discard_), [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) self->close();
       else self->keep_discarding();
     });
@@ -263,7 +314,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void keep_discarding() {
     if (closed_) return;
-    stream_.socket().async_read_some(asio::buffer(discard_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    lowest().socket().async_read_some(asio::buffer(discard_), [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) self->close();
       else self->keep_discarding();
     });
@@ -280,8 +331,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::array<asio::const_buffer, 3> buffers = {asio::buffer(part_header_), asio::buffer(*in_flight_),
                                                        asio::buffer("\r\n", 2)};
     writing_ = true;
-    stream_.expires_after(server_->options.timeout);
-    asio::async_write(stream_, buffers, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    lowest().expires_after(server_->options.timeout);
+    asio::async_write(stream_, buffers, [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       self->part_written(ec, true);
     });
   }
@@ -307,11 +358,13 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   std::string peer() {
     beast::error_code ec;
-    const auto p = stream_.socket().remote_endpoint(ec);
+    const auto p = lowest().socket().remote_endpoint(ec);
     return ec ? std::string("?") : fmt::format("{}:{}", p.address().to_string(), p.port());
   }
 
-  beast::tcp_stream stream_;
+  beast::tcp_stream& lowest() { return beast::get_lowest_layer(stream_); }
+
+  Stream stream_;
   std::shared_ptr<HttpServer::Impl> server_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;

@@ -118,6 +118,10 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_stream_clients_dropped_total", "counter", "Posture stream clients dropped, by reason.")
       .sample(c.clients_dropped, "reason=\"slow_or_flooding\"")
       .sample(c.clients_rejected, "reason=\"max_clients\"");
+  Family(out, "spinewatch_stream_refused_total", "counter",
+         "Posture stream TCP clients refused before any line, by reason (docs/security.md).")
+      .sample(c.auth_failures, "reason=\"auth\"")
+      .sample(c.tls_failures, "reason=\"tls_handshake\"");
   Family(out, "spinewatch_stream_lines_total", "counter", "Lines published on the posture stream.").sample(c.lines);
   Family(out, "spinewatch_stream_lines_dropped_total", "counter", "Lines dropped before any client, by reason.")
       .sample(c.lines_dropped, "reason=\"inbox_full\"");
@@ -137,7 +141,10 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_http_connections_dropped_total", "counter", "HTTP connections refused or cut, by reason.")
       .sample(h.rejected, "reason=\"max_connections\"")
       .sample(h.timed_out, "reason=\"timeout\"")
-      .sample(h.bad_requests, "reason=\"bad_request\"");
+      .sample(h.bad_requests, "reason=\"bad_request\"")
+      .sample(h.tls_failures, "reason=\"tls_handshake\"");
+  Family(out, "spinewatch_http_unauthorized_total", "counter", "HTTP requests answered 401: no or a wrong bearer token.")
+      .sample(h.auth_failures);
   Family(out, "spinewatch_http_requests_total", "counter", "HTTP requests answered.").sample(h.requests);
   Family(out, "spinewatch_http_stream_viewers", "gauge", "MJPEG /stream viewers connected.").sample(h.stream_viewers);
   Family(out, "spinewatch_http_stream_frames_total", "counter", "JPEG frames written to /stream viewers.")

@@ -43,8 +43,10 @@ const std::vector<Field>& fields() {
       SW_FIELD(spine, model), SW_FIELD(spine, voxel_mm), SW_FIELD(spine, substeps),
       SW_FIELD(subject, stature_mm), SW_FIELD(subject, mass_kg), SW_FIELD(subject, c7_height_mm),
       SW_FIELD(subject, iliac_crest_height_mm), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),
-      SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, client_queue),
-      SW_FIELD(publish, max_clients),
+      SW_FIELD(publish, listen), SW_FIELD(publish, allow_unauthenticated), SW_FIELD(publish, unix_socket), SW_FIELD(publish, unix_socket_group),
+      SW_FIELD(publish, client_queue),
+      SW_FIELD(publish, max_clients), SW_FIELD(publish, tls_cert), SW_FIELD(publish, tls_key),
+      SW_FIELD(publish, tls_client_ca), SW_FIELD(publish, token_file), SW_FIELD(publish, auth_timeout_s),
       SW_FIELD(exposure, interval_s),
       SW_FIELD(alerts, enabled), SW_FIELD(alerts, rules), SW_FIELD(alerts, silent), SW_FIELD(alerts, gpio_chip),
       SW_FIELD(alerts, gpio_line), SW_FIELD(alerts, gpio_active_low), SW_FIELD(alerts, gpio_mode),
@@ -52,12 +54,14 @@ const std::vector<Field>& fields() {
       SW_FIELD(storage, path), SW_FIELD(storage, posture_every), SW_FIELD(storage, retention_days),
       SW_FIELD(storage, max_size_mb),
       SW_FIELD(http, listen), SW_FIELD(http, allow_unauthenticated), SW_FIELD(http, fps), SW_FIELD(http, camera_pixels),
-      SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s),
+      SW_FIELD(http, max_connections), SW_FIELD(http, timeout_s), SW_FIELD(http, tls_cert), SW_FIELD(http, tls_key),
+      SW_FIELD(http, tls_client_ca), SW_FIELD(http, token_file),
       SW_FIELD(log, level), SW_FIELD(log, status_interval_s),
       SW_FIELD(mqtt, url), SW_FIELD(mqtt, ca_file), SW_FIELD(mqtt, cert_file), SW_FIELD(mqtt, key_file),
       SW_FIELD(mqtt, username), SW_FIELD(mqtt, password_file), SW_FIELD(mqtt, posture_rate_hz), SW_FIELD(mqtt, qos),
       SW_FIELD(mqtt, outbox_path), SW_FIELD(mqtt, outbox_max_messages), SW_FIELD(mqtt, keepalive_s),
       SW_FIELD(mqtt, reconnect_min_s), SW_FIELD(mqtt, reconnect_max_s),
+      SW_FIELD(privacy, pseudonymise), SW_FIELD(privacy, secret_file),
   };
   return table;
 }

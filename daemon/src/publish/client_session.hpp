@@ -4,6 +4,8 @@
 // lines; overflowing it, or sending more than a trickle of input, ends the
 // session as a drop. What the client sends is cut into lines and handed to
 // the publisher's command handler, whose reply goes to this client alone.
+// With tokens, the first line must be {"command":"auth","token":...}
+// within the timeout; until then the client gets nothing (docs/protocol.md).
 #include <array>
 #include <chrono>
 #include <deque>
@@ -17,7 +19,9 @@
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
 #include <boost/asio.hpp>
+#include <spdlog/spdlog.h>
 
+#include "spinewatch/daemon/access.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 
 namespace spinewatch::detail {
@@ -40,6 +44,13 @@ using InputFn = std::function<InputReply(std::string_view line, const std::strin
 
 enum class CloseKind { Normal, Dropped };
 
+struct SessionAuth {
+  std::shared_ptr<const TokenSet> tokens;  // null: no auth line asked for
+  std::chrono::milliseconds timeout{10000};
+  // A refusal (the session then sends its reply and closes): counted and logged by the publisher.
+  std::function<void(const std::string& client, std::string_view why)> on_failure;
+};
+
 class ClientSession {
  public:
   using ClosedFn = std::function<void(ClientSession&, CloseKind, std::string_view reason)>;
@@ -55,22 +66,35 @@ class ClientSession {
 template <class Socket>
 class SocketSession final : public ClientSession, public std::enable_shared_from_this<SocketSession<Socket>> {
  public:
-  SocketSession(Socket socket, std::string name, SessionLimits limits, InputFn on_input, ClosedFn on_closed)
+  SocketSession(Socket socket, std::string name, SessionLimits limits, InputFn on_input, ClosedFn on_closed,
+                SessionAuth auth = {})
       : socket_(std::move(socket)),
         name_(std::move(name)),
         limits_(limits),
         on_input_(std::move(on_input)),
-        on_closed_(std::move(on_closed)) {}
+        on_closed_(std::move(on_closed)),
+        auth_(std::move(auth)),
+        authenticated_(auth_.tokens == nullptr),
+        auth_timer_(socket_.get_executor()) {}
 
   void start(const Line& hello) override {
     window_start_ = std::chrono::steady_clock::now();
-    queue_.push_back(hello);
-    write_more();
+    if (!authenticated_) {
+      hello_ = hello;
+      auth_timer_.expires_after(auth_.timeout);
+      auth_timer_.async_wait([self = this->shared_from_this()](const boost::system::error_code& ec) {
+        if (ec || self->closed_ || self->authenticated_ || self->finishing_) return;
+        self->refuse("no auth line within " + std::to_string(self->auth_.timeout.count()) + " ms");
+      });
+    } else {
+      queue_.push_back(hello);
+      write_more();
+    }
     read_more();
   }
 
   void deliver(const Line& line) override {
-    if (closed_ || finishing_) return;
+    if (closed_ || finishing_ || !authenticated_) return;
     if (queue_.size() >= limits_.queue_lines) {
       close(CloseKind::Dropped, "did not keep up: " + std::to_string(queue_.size()) + " lines queued");
       return;
@@ -81,14 +105,15 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
 
   void finish() override {
     finishing_ = true;
-    if (!writing_ && queue_.empty()) close(CloseKind::Normal, "daemon stopping");
+    if (!writing_ && queue_.empty()) close(CloseKind::Normal, finish_reason_);
   }
 
   void close(CloseKind kind, std::string_view reason) override {
     if (closed_) return;
     closed_ = true;
+    auth_timer_.cancel();
     boost::system::error_code ignored;
-    socket_.close(ignored);
+    socket_.lowest_layer().close(ignored);
     queue_.clear();
     on_closed_(*this, kind, reason);
   }
@@ -101,7 +126,7 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
   void write_more() {
     if (closed_) return;
     if (queue_.empty()) {
-      if (finishing_) close(CloseKind::Normal, "daemon stopping");
+      if (finishing_) close(CloseKind::Normal, finish_reason_);
       return;
     }
     in_flight_ = std::min(queue_.size(), kLinesPerWrite);
@@ -169,6 +194,11 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
       std::string_view line(partial_.data() + start, end - start);
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
       if (line.size() > limits_.input_line_bytes) return too_long();
+      if (!authenticated_) {
+        authenticate(line);
+        if (closed_ || finishing_) return std::nullopt;
+        continue;
+      }
       const InputReply reply = on_input_ ? on_input_(line, name_) : InputReply{};
       if (!reply.accepted) total_bytes_ += line.size() + 1;
       if (reply.line) deliver(std::make_shared<const std::string>(*reply.line + "\n"));
@@ -182,11 +212,52 @@ class SocketSession final : public ClientSession, public std::enable_shared_from
     return std::nullopt;
   }
 
+  // The first line of a client asked for a token.
+  void authenticate(std::string_view line) {
+    const auto token = auth_token_of(line);
+    const auto who = token ? auth_.tokens->match(*token) : std::nullopt;
+    if (!who) {
+      refuse(token ? "wrong token" : "the first line was not {\"command\":\"auth\",\"token\":...}");
+      return;
+    }
+    authenticated_ = true;
+    auth_timer_.cancel();
+    spdlog::info("publisher: client {} authenticated as {}", name_, *who);
+    name_ += " as " + *who;
+    queue_.push_back(std::make_shared<const std::string>(R"({"class":"reply","v":1,"command":"auth","ok":true})" "\n"));
+    queue_.push_back(std::exchange(hello_, nullptr));
+    if (!writing_) write_more();
+  }
+
+  // Says why (never echoing the token), then closes once that is written.
+  void refuse(const std::string& why) {
+    if (auth_.on_failure) auth_.on_failure(name_, why);
+    queue_.push_back(std::make_shared<const std::string>(
+        R"({"class":"reply","v":1,"command":"auth","ok":false,"error":")" + why_json(why) + "\"}\n"));
+    finish_reason_ = "refused: " + why;
+    finishing_ = true;
+    if (!writing_) write_more();
+  }
+
+  static std::string why_json(const std::string& why) {
+    std::string out;
+    for (char c : why) {
+      if (c == '"' || c == '\\') out.push_back('\\');
+      out.push_back(c);
+    }
+    return out;
+  }
+
   Socket socket_;
   std::string name_;
   SessionLimits limits_;
   InputFn on_input_;
   ClosedFn on_closed_;
+  SessionAuth auth_;
+  bool authenticated_;
+  boost::asio::steady_timer auth_timer_;
+  Line hello_;  // sent once the client has authenticated
+  std::string finish_reason_ = "daemon stopping";
   std::string partial_;  // input after the last newline
   std::deque<Line> queue_;
   std::vector<boost::asio::const_buffer> buffers_;

@@ -1,4 +1,9 @@
+#include <grp.h>
+
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 #include <string>
 
 #include <boost/asio/ip/address.hpp>
@@ -27,6 +32,16 @@ bool is_loopback(const TcpEndpoint& endpoint) {
   boost::system::error_code ec;
   const auto address = boost::asio::ip::make_address(endpoint.host, ec);
   return !ec && address.is_loopback();
+}
+
+Result<unsigned> group_id(const std::string& name, std::string_view key) {
+  group entry{};
+  group* found = nullptr;
+  std::vector<char> buffer(16384);
+  const int err = ::getgrnam_r(name.c_str(), &entry, buffer.data(), buffer.size(), &found);
+  if (err != 0) return Error{fmt::format("{}: cannot look up group \"{}\": {}", key, name, std::strerror(err))};
+  if (found == nullptr) return Error{fmt::format("{}: no group \"{}\" on this machine (getent group {})", key, name, name)};
+  return static_cast<unsigned>(found->gr_gid);
 }
 
 std::filesystem::path default_unix_socket_path() {

@@ -2,6 +2,7 @@
 
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstring>
@@ -13,9 +14,11 @@
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
 #include <boost/asio.hpp>
+#include <boost/asio/ssl.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "../net/tcp_listener.hpp"
 #include "client_session.hpp"
 
 namespace spinewatch {
@@ -23,6 +26,7 @@ namespace spinewatch {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 using unix_socket = asio::local::stream_protocol;
+using tls_socket = asio::ssl::stream<tcp::socket>;
 using detail::CloseKind;
 using detail::Line;
 
@@ -43,10 +47,14 @@ struct Publisher::Impl {
   bool drain_posted = false;
 
   std::atomic<std::uint64_t> clients_now{0}, clients_total{0}, clients_dropped{0}, clients_rejected{0};
+  std::atomic<std::uint64_t> auth_failures{0}, tls_failures{0};
+  std::size_t handshaking = 0;     // TLS handshakes under way (I/O thread only); count against max_clients
+  LogLimiter refusal_log;          // a scan or a misconfigured client must not flood the journal
   std::atomic<std::uint64_t> lines{0}, lines_dropped{0};
   std::thread thread;
   bool stopped = false;
   bool owns_unix_path = false;  // only a socket we bound is removed on stop
+  bool stopped_io = false;      // I/O thread: stop() has begun; handshakes still ending are not failures
 
   detail::SessionLimits limits() const {
     return {options.client_queue, options.max_input_bytes_per_s, options.max_input_bytes, options.max_input_line};
@@ -65,34 +73,91 @@ struct Publisher::Impl {
         });
         return;
       }
-      add_client(std::move(socket), kind);
+      accepted(std::move(socket));
       accept_next(acceptor, kind);
     });
   }
 
-  template <class Socket>
-  void add_client(Socket socket, const char* kind) {
+  void accepted(unix_socket::socket socket) {
+    add_client(std::move(socket), fmt::format("#{} (unix)", next_client_id++), false);
+  }
+
+  void accepted(tcp::socket socket) {
     const std::uint64_t id = next_client_id++;
+    const char* kind = options.access.tls ? "tls" : "tcp";
     std::string name = fmt::format("#{} ({})", id, kind);
-    if constexpr (std::is_same_v<Socket, tcp::socket>) {
-      boost::system::error_code ec;
-      const auto peer = socket.remote_endpoint(ec);
-      if (!ec) name = fmt::format("#{} ({} {}:{})", id, kind, peer.address().to_string(), peer.port());
-    }
-    if (clients.size() >= options.max_clients) {
-      clients_rejected.fetch_add(1);
-      spdlog::warn("publisher: client {} refused: {} clients connected (publish.max_clients)", name, clients.size());
-      boost::system::error_code ignored;
-      socket.close(ignored);
+    boost::system::error_code ec;
+    const auto peer = socket.remote_endpoint(ec);
+    if (!ec) name = fmt::format("#{} ({} {}:{})", id, kind, peer.address().to_string(), peer.port());
+    if (!options.access.tls) {
+      add_client(std::move(socket), std::move(name), options.access.tokens != nullptr);
       return;
     }
+    if (!admissible(socket, name)) return;
+    // The handshake runs beside the other clients; one that stalls or
+    // speaks plain text is cut at the timeout or at its first bytes.
+    ++handshaking;
+    auto stream = std::make_shared<tls_socket>(std::move(socket), *options.access.tls);
+    auto timer = std::make_shared<asio::steady_timer>(io, options.auth_timeout);
+    timer->async_wait([stream](const boost::system::error_code& e) {
+      boost::system::error_code ignored;
+      if (!e) stream->lowest_layer().close(ignored);
+    });
+    stream->async_handshake(asio::ssl::stream_base::server,
+                            [this, stream, timer, name = std::move(name)](const boost::system::error_code& e) {
+                              --handshaking;
+                              const bool timed_out = timer->cancel() == 0;
+                              if (e || timed_out || stopped_io) {
+                                if (stopped_io) return;
+                                tls_failures.fetch_add(1);
+                                refused(name, timed_out ? "no TLS handshake within the timeout"
+                                                        : "TLS handshake failed: " + e.message());
+                                boost::system::error_code ignored;
+                                stream->lowest_layer().close(ignored);
+                                return;
+                              }
+                              add_client(std::move(*stream), name, options.access.tokens != nullptr);
+                            });
+  }
+
+  void refused(const std::string& name, std::string_view why) {
+    // Never the token itself: only what was wrong.
+    if (auto held = refusal_log.admit())
+      spdlog::warn("publisher: client {} refused: {}{}", name, why,
+                   *held ? fmt::format(" ({} more refusals not logged in the last 10 s)", *held) : std::string());
+  }
+
+  template <class Socket>
+  bool admissible(Socket& socket, const std::string& name) {
+    if (clients.size() + handshaking < options.max_clients) return true;
+    clients_rejected.fetch_add(1);
+    spdlog::warn("publisher: client {} refused: {} clients connected (publish.max_clients)", name,
+                 clients.size() + handshaking);
+    boost::system::error_code ignored;
+    socket.lowest_layer().close(ignored);
+    return false;
+  }
+
+  template <class Socket>
+  void add_client(Socket socket, std::string name, bool needs_token) {
+    if (!admissible(socket, name)) return;
     if (options.send_buffer_bytes > 0) {
       boost::system::error_code ignored;
-      socket.set_option(asio::socket_base::send_buffer_size(options.send_buffer_bytes), ignored);
+      socket.lowest_layer().set_option(asio::socket_base::send_buffer_size(options.send_buffer_bytes), ignored);
+    }
+    detail::SessionAuth auth;
+    if (needs_token) {
+      auth.tokens = options.access.tokens;
+      auth.timeout = options.auth_timeout;
+      auth.on_failure = [this](const std::string& client, std::string_view why) {
+        auth_failures.fetch_add(1);
+        refused(client, why);
+      };
     }
     auto session = std::make_shared<detail::SocketSession<Socket>>(
         std::move(socket), name, limits(), options.on_input,
-        [this](detail::ClientSession& s, CloseKind kind, std::string_view reason) { on_closed(s, kind, reason); });
+        [this](detail::ClientSession& s, CloseKind kind, std::string_view reason) { on_closed(s, kind, reason); },
+        std::move(auth));
     clients.emplace(session.get(), session);
     clients_now.store(clients.size());
     clients_total.fetch_add(1);
@@ -153,26 +218,10 @@ namespace {
 
 Status bind_tcp(asio::io_context& io, const TcpEndpoint& where, std::optional<tcp::acceptor>& out,
                 std::uint16_t& port) {
-  const std::string label = fmt::format("{}:{}", where.host, where.port);
-  boost::system::error_code ec;
-  tcp::endpoint endpoint;
-  auto address = asio::ip::make_address(where.host, ec);
-  if (!ec) {
-    endpoint = tcp::endpoint(address, where.port);
-  } else {
-    tcp::resolver resolver(io);
-    auto results = resolver.resolve(where.host, std::to_string(where.port), ec);
-    if (ec || results.empty()) return Error{fmt::format("listen address {}: cannot resolve \"{}\": {}", label, where.host, ec.message())};
-    endpoint = *results.begin();
-  }
-  tcp::acceptor acceptor(io);
-  if (acceptor.open(endpoint.protocol(), ec); ec) return Error{fmt::format("listen address {}: {}", label, ec.message())};
-  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
-  if (acceptor.bind(endpoint, ec); ec) return Error{fmt::format("listen address {}: cannot bind: {}", label, ec.message())};
-  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
-    return Error{fmt::format("listen address {}: cannot listen: {}", label, ec.message())};
-  port = acceptor.local_endpoint().port();
-  out.emplace(std::move(acceptor));
+  auto acceptor = net::listen_tcp(io, where, fmt::format("listen address {}:{}", where.host, where.port));
+  if (!acceptor) return acceptor.error();
+  port = acceptor->local_endpoint().port();
+  out.emplace(std::move(acceptor).value());
   return Ok{};
 }
 
@@ -194,7 +243,8 @@ Status remove_stale_socket(asio::io_context& io, const std::filesystem::path& pa
   return Ok{};
 }
 
-Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unix_socket::acceptor>& out) {
+Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unsigned> gid,
+                 std::optional<unix_socket::acceptor>& out) {
   if (auto removed = remove_stale_socket(io, path); !removed) return removed;
   boost::system::error_code ec;
   unix_socket::acceptor acceptor(io);
@@ -203,6 +253,11 @@ Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::o
     return Error{fmt::format("unix socket {}: cannot bind: {}", path.string(), ec.message())};
   if (::chmod(path.c_str(), 0660) != 0)
     return Error{fmt::format("unix socket {}: cannot set mode 0660: {}", path.string(), std::strerror(errno))};
+  // Readers in that group (systemd: SupplementaryGroups=) may connect; a
+  // process may give its file to any group it is a member of.
+  if (gid && ::chown(path.c_str(), static_cast<uid_t>(-1), static_cast<gid_t>(*gid)) != 0)
+    return Error{fmt::format("unix socket {}: cannot give it to group {} (publish.unix_socket_group; the daemon must be "
+                             "a member): {}", path.string(), *gid, std::strerror(errno))};
   if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
     return Error{fmt::format("unix socket {}: cannot listen: {}", path.string(), ec.message())};
   out.emplace(std::move(acceptor));
@@ -223,7 +278,7 @@ Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& opti
   if (options.tcp)
     if (auto bound = bind_tcp(impl.io, *options.tcp, impl.tcp_acceptor, impl.tcp_port); !bound) return bound.error();
   if (options.unix_socket)
-    if (auto bound = bind_unix(impl.io, *options.unix_socket, impl.unix_acceptor); !bound) return bound.error();
+    if (auto bound = bind_unix(impl.io, *options.unix_socket, options.unix_socket_gid, impl.unix_acceptor); !bound) return bound.error();
   impl.owns_unix_path = impl.unix_acceptor.has_value();
   if (impl.tcp_acceptor) impl.accept_next(*impl.tcp_acceptor, "tcp");
   if (impl.unix_acceptor) impl.accept_next(*impl.unix_acceptor, "unix");
@@ -272,6 +327,7 @@ void Publisher::stop() {
   }
   if (impl.thread.joinable()) {
     impl.run_on_io([&] {
+      impl.stopped_io = true;
       impl.drain();
       impl.close_acceptors();
       std::vector<std::shared_ptr<detail::ClientSession>> all;
@@ -310,6 +366,8 @@ PublisherStats Publisher::stats() const {
   s.clients_total = impl_->clients_total.load();
   s.clients_dropped = impl_->clients_dropped.load();
   s.clients_rejected = impl_->clients_rejected.load();
+  s.auth_failures = impl_->auth_failures.load();
+  s.tls_failures = impl_->tls_failures.load();
   s.lines = impl_->lines.load();
   s.lines_dropped = impl_->lines_dropped.load();
   {

@@ -178,8 +178,14 @@ const std::vector<Key>& keys() {
       string_key("publish.listen", [](Config& c) -> std::string& { return c.publish.listen; }),
       bool_key("publish.allow_unauthenticated", [](Config& c) -> bool& { return c.publish.allow_unauthenticated; }),
       string_key("publish.unix_socket", [](Config& c) -> std::string& { return c.publish.unix_socket; }),
+      string_key("publish.unix_socket_group", [](Config& c) -> std::string& { return c.publish.unix_socket_group; }),
       int_key("publish.client_queue", [](Config& c) -> int& { return c.publish.client_queue; }, {1, 100000}),
       int_key("publish.max_clients", [](Config& c) -> int& { return c.publish.max_clients; }, {1, 1024}),
+      string_key("publish.tls_cert", [](Config& c) -> std::string& { return c.publish.tls_cert; }),
+      string_key("publish.tls_key", [](Config& c) -> std::string& { return c.publish.tls_key; }),
+      string_key("publish.tls_client_ca", [](Config& c) -> std::string& { return c.publish.tls_client_ca; }),
+      string_key("publish.token_file", [](Config& c) -> std::string& { return c.publish.token_file; }),
+      double_key("publish.auth_timeout_s", [](Config& c) -> double& { return c.publish.auth_timeout_s; }, {0.1, 300.0}),
 
       int_key("exposure.interval_s", [](Config& c) -> int& { return c.exposure.interval_s; }, {1, 86400}),
 
@@ -202,6 +208,10 @@ const std::vector<Key>& keys() {
       bool_key("http.camera_pixels", [](Config& c) -> bool& { return c.http.camera_pixels; }),
       int_key("http.max_connections", [](Config& c) -> int& { return c.http.max_connections; }, {1, 256}),
       double_key("http.timeout_s", [](Config& c) -> double& { return c.http.timeout_s; }, {0.5, 300.0}),
+      string_key("http.tls_cert", [](Config& c) -> std::string& { return c.http.tls_cert; }),
+      string_key("http.tls_key", [](Config& c) -> std::string& { return c.http.tls_key; }),
+      string_key("http.tls_client_ca", [](Config& c) -> std::string& { return c.http.tls_client_ca; }),
+      string_key("http.token_file", [](Config& c) -> std::string& { return c.http.token_file; }),
 
       string_key("log.level", [](Config& c) -> std::string& { return c.log.level; },
                  {"trace", "debug", "info", "warn", "error"}),
@@ -220,6 +230,8 @@ const std::vector<Key>& keys() {
       int_key("mqtt.keepalive_s", [](Config& c) -> int& { return c.mqtt.keepalive_s; }, {5, 3600}),
       double_key("mqtt.reconnect_min_s", [](Config& c) -> double& { return c.mqtt.reconnect_min_s; }, {0.1, 3600.0}),
       double_key("mqtt.reconnect_max_s", [](Config& c) -> double& { return c.mqtt.reconnect_max_s; }, {0.1, 86400.0}),
+      bool_key("privacy.pseudonymise", [](Config& c) -> bool& { return c.privacy.pseudonymise; }),
+      string_key("privacy.secret_file", [](Config& c) -> std::string& { return c.privacy.secret_file; }),
   };
   return table;
 }

@@ -114,12 +114,16 @@ struct Config {
   struct Publish {
     std::string listen = "127.0.0.1:7117";  // HOST:PORT or "none"
     std::string unix_socket = "";           // "" = $RUNTIME_DIRECTORY/posture.sock, "none" = off
+    std::string unix_socket_group = "";     // the socket's group (mode 0660); "" = the daemon's
     int client_queue = 256;                 // lines buffered per client before it is dropped
     int max_clients = 32;
     // The stream has no authentication yet (docs/security.md): a TCP address
     // that is not loopback is refused at start unless this says the site
     // accepts that anyone who can reach the port reads the postures.
     bool allow_unauthenticated = false;
+    // TLS and authentication on the TCP port (docs/security.md); "" = off.
+    std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
+    double auth_timeout_s = 10.0;  // the TLS handshake and the auth line must be done within this
     bool operator==(const Publish&) const = default;
   } publish;
 
@@ -157,6 +161,8 @@ struct Config {
     bool camera_pixels = false;  // the views over the cameras' pixels; false: a plain background (privacy)
     int max_connections = 16;
     double timeout_s = 10.0;     // a request must arrive, and each response or stream frame be taken, within this
+    // As [publish]'s: TLS, client certificates, bearer tokens; "" = off.
+    std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
     bool operator==(const Http&) const = default;
   } http;
 
@@ -184,6 +190,15 @@ struct Config {
     double reconnect_max_s = 60.0;
     bool operator==(const Mqtt&) const = default;
   } mqtt;
+  struct Privacy {
+    // Worker ids (set_worker's "id") stored, published and logged as
+    // pseudonyms, "w-" + 12 hex of HMAC-SHA256(secret, id) (docs/security.md).
+    bool pseudonymise = true;
+    // The station's secret; "" = $STATE_DIRECTORY/pseudonym.key (else
+    // /var/lib/spinewatch/pseudonym.key), created 0600 when absent.
+    std::string secret_file = "";
+    bool operator==(const Privacy&) const = default;
+  } privacy;
 
   bool operator==(const Config&) const = default;
 };

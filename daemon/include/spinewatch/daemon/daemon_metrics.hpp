@@ -25,6 +25,8 @@ struct HttpStats {
   std::uint64_t stream_viewers = 0;     // /stream connections now
   std::uint64_t stream_frames = 0;      // JPEG parts written to viewers
   std::uint64_t stream_frames_skipped = 0;  // a viewer still writing the last one got the next newer one instead
+  std::uint64_t auth_failures = 0;      // requests answered 401: no or a wrong bearer token
+  std::uint64_t tls_failures = 0;       // connections whose TLS handshake failed (plain text, no or a foreign certificate)
 };
 
 // Postures by state since start, and how often tracking was lost.

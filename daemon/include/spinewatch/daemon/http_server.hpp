@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include "spinewatch/daemon/access.hpp"
 #include "spinewatch/daemon/daemon_metrics.hpp"
 #include "spinewatch/daemon/live_view.hpp"
 #include "spinewatch/daemon/publisher.hpp"
@@ -30,6 +31,9 @@ struct HttpOptions {
   std::chrono::milliseconds timeout{10000};  // request arrival; each response / stream frame written
   std::size_t max_header_bytes = 8192;
   int stream_send_buffer = 64 * 1024;  // SO_SNDBUF of /stream connections: bounds what a viewer holds
+  // TLS (the handshake within `timeout`) and who may ask: with tokens,
+  // every request needs Authorization: Bearer (docs/security.md).
+  Access access{};
 };
 
 // What the server asks the daemon for, on the I/O thread (must not block).

@@ -8,6 +8,7 @@
 // publish() never blocks on a socket: the pipeline and the other clients
 // never wait for anyone.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "spinewatch/daemon/access.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace boost::asio {
@@ -37,6 +39,8 @@ struct ClientInputReply {
 struct PublisherOptions {
   std::optional<TcpEndpoint> tcp;
   std::optional<std::filesystem::path> unix_socket;
+  // The socket file's group after bind (mode 0660 either way); unset: the daemon's own.
+  std::optional<unsigned> unix_socket_gid;
   std::size_t client_queue = 256;  // lines queued per client before it is dropped
   std::size_t max_clients = 32;    // further connections are closed at once
   std::size_t inbox = 1024;        // lines waiting for the I/O thread (oldest dropped)
@@ -51,6 +55,11 @@ struct PublisherOptions {
   // Unset: input is read and thrown away.
   std::function<ClientInputReply(std::string_view line, const std::string& client)> on_input;
   int send_buffer_bytes = 0;  // SO_SNDBUF for client sockets; 0: the kernel's default
+  // The TCP listener's TLS and authentication (docs/security.md); the Unix
+  // socket is guarded by its file mode and group instead. A TLS handshake,
+  // and with tokens the auth line, must complete within auth_timeout.
+  Access access{};
+  std::chrono::milliseconds auth_timeout{10000};
 };
 
 struct PublisherStats {
@@ -58,6 +67,8 @@ struct PublisherStats {
   std::uint64_t clients_total = 0;     // accepted since start
   std::uint64_t clients_dropped = 0;   // dropped for a queue overflow or too much input
   std::uint64_t clients_rejected = 0;  // refused because max_clients were connected
+  std::uint64_t auth_failures = 0;     // TCP clients closed: no valid token within the timeout
+  std::uint64_t tls_failures = 0;      // TCP clients closed: the TLS handshake failed (plain text, no or a foreign certificate)
   std::uint64_t lines = 0;             // lines published
   std::uint64_t lines_dropped = 0;     // lines dropped from the inbox (I/O thread behind)
   std::size_t inbox = 0;               // lines waiting for the I/O thread now
@@ -69,6 +80,8 @@ Result<TcpEndpoint> parse_listen_address(const std::string& text);
 // Only this machine can connect: a numeric loopback address (127.0.0.0/8,
 // ::1) or "localhost". A name that must be resolved is not loopback.
 bool is_loopback(const TcpEndpoint& endpoint);
+// A group's id by name (publish.unix_socket_group); errors name `key` and the group.
+Result<unsigned> group_id(const std::string& name, std::string_view key);
 // $RUNTIME_DIRECTORY/posture.sock (its first entry), else /run/spinewatch/posture.sock.
 std::filesystem::path default_unix_socket_path();
 
