@@ -21,27 +21,12 @@
 #include "spinewatch/daemon/live_view.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/phantom/phantom.hpp"
+#include "../phantom_pairs.hpp"
 
 namespace spinewatch {
 namespace {
 
 constexpr std::int64_t kPeriodNs = 33'333'333;
-
-// Phantom flexion pairs as the cameras deliver them (YUYV).
-std::vector<FramePair> flexion_pairs(const phantom::PhantomOptions& options) {
-  std::vector<FramePair> pairs;
-  auto seq = phantom::PhantomSequence::create(options);
-  if (!seq.ok()) return pairs;
-  const auto format = FrameFormat::packed(PixelFormat::YUYV, 320, 240);
-  for (int i = 0; i < seq->frame_count(); ++i) {
-    const auto frame = seq->render(i);
-    FramePair p;
-    p.frontal = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 0));
-    p.lateral = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 1));
-    pairs.push_back(std::move(p));
-  }
-  return pairs;
-}
 
 // A viewer: GET /stream, then read and discard until told to stop.
 void view(std::uint16_t port, const std::atomic<bool>& stop) {
@@ -73,7 +58,7 @@ void BM_PipelinePairWithViewers(benchmark::State& state) {
     return;
   }
   options.subject = *subject;
-  const auto pairs = flexion_pairs(options);
+  const auto pairs = bench::phantom_pairs(options);
   if (pairs.empty()) {
     state.SkipWithError("phantom frames");
     return;

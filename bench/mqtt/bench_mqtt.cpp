@@ -24,6 +24,7 @@
 #include "spinewatch/daemon/stream_lines.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/phantom/phantom.hpp"
+#include "../phantom_pairs.hpp"
 
 extern char** environ;
 
@@ -31,21 +32,6 @@ namespace spinewatch {
 namespace {
 
 constexpr std::int64_t kPeriodNs = 33'333'333;
-
-std::vector<FramePair> flexion_pairs(const phantom::PhantomOptions& options) {
-  std::vector<FramePair> pairs;
-  auto seq = phantom::PhantomSequence::create(options);
-  if (!seq.ok()) return pairs;
-  const auto format = FrameFormat::packed(PixelFormat::YUYV, 320, 240);
-  for (int i = 0; i < seq->frame_count(); ++i) {
-    const auto frame = seq->render(i);
-    FramePair p;
-    p.frontal = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 0));
-    p.lateral = Frame::owning(format, {}, phantom::yuyv_bytes(frame, 1));
-    pairs.push_back(std::move(p));
-  }
-  return pairs;
-}
 
 std::uint16_t free_port() {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -98,7 +84,7 @@ void BM_PipelinePairWithMqtt(benchmark::State& state) {
     return;
   }
   options.subject = *subject;
-  const auto pairs = flexion_pairs(options);
+  const auto pairs = bench::phantom_pairs(options);
   if (pairs.empty()) {
     state.SkipWithError("phantom frames");
     return;

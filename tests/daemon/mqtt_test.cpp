@@ -217,7 +217,7 @@ MqttOptions options_for(std::uint16_t port, const std::filesystem::path& outbox)
 // outbox, postures due are dropped and counted, never queued.
 TEST(MqttPublisherTest, WithoutABrokerSummariesWaitAndPosturesAreCountedDropped) {
   test::TempDir dir;
-  const std::uint16_t port = test::free_tcp_port();
+  const std::uint16_t port = test::free_port();
   auto fast = options_for(port, dir / "fast.db");
   fast.posture_rate_hz = 5;
   auto slow = options_for(port, dir / "slow.db");
@@ -250,7 +250,7 @@ TEST(MqttPublisherTest, WithoutABrokerSummariesWaitAndPosturesAreCountedDropped)
 TEST(MqttPublisherTest, PublishesTheDocumentedTopicsToARealBroker) {
   if (!test::mosquitto_available()) GTEST_SKIP() << test::kMosquitto << " is not installed (Debian package mosquitto)";
   test::TempDir dir;
-  const std::uint16_t port = test::free_tcp_port();
+  const std::uint16_t port = test::free_port();
   test::MosquittoBroker broker(dir / "broker", "listener " + std::to_string(port) + " 127.0.0.1\nallow_anonymous true\n", {port});
   ASSERT_TRUE(broker.start()) << broker.log();
   test::MqttSubscriber sub({.port = port});

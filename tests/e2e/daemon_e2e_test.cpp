@@ -18,20 +18,6 @@ using namespace std::chrono_literals;
 using test::DaemonProcess;
 using test::LineClient;
 
-// Connects once the daemon listens (it may still be starting).
-template <class Connect>
-std::optional<LineClient> connect_when_up(Connect connect, DaemonProcess& daemon) {
-  const auto deadline = std::chrono::steady_clock::now() + 15s;
-  while (std::chrono::steady_clock::now() < deadline && daemon.running()) {
-    try {
-      return connect();
-    } catch (const std::exception&) {
-      std::this_thread::sleep_for(20ms);
-    }
-  }
-  return std::nullopt;
-}
-
 class DaemonE2E : public ::testing::Test {
  protected:
   std::filesystem::path make_recording(int frames, int empty_frames = 2) {
@@ -61,9 +47,9 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
                        dir / "daemon.log");
   ASSERT_GT(daemon.pid(), 0);
 
-  auto a = connect_when_up([&] { return LineClient::tcp(port); }, daemon);
+  auto a = test::when_up([&] { return LineClient::tcp(port); }, daemon);
   ASSERT_TRUE(a) << daemon.log();
-  auto b = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  auto b = test::when_up([&] { return LineClient::unix_socket(sock); }, daemon);
   ASSERT_TRUE(b) << daemon.log();
   auto silent = LineClient::tcp(port, 4096);  // connects, never reads
   auto flooder = LineClient::unix_socket(sock);
@@ -182,7 +168,7 @@ TEST_F(DaemonE2E, ANetworkListenerWithoutAuthenticationIsRefusedUnlessAllowed) {
   text.replace(text.find("[publish]\n"), 10, "[publish]\nallow_unauthenticated = true\n");
   test::write_file(config, text);
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", listen, "--unix", "none"}, dir / "daemon.log");
-  auto client = connect_when_up([&] { return LineClient::tcp(port); }, daemon);
+  auto client = test::when_up([&] { return LineClient::tcp(port); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
   const auto line = client->read_line();
   ASSERT_TRUE(line) << daemon.log();
@@ -202,7 +188,7 @@ TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
   const auto sock = dir / "p.sock";
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
-  ASSERT_TRUE(connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon)) << daemon.log();
+  ASSERT_TRUE(test::when_up([&] { return LineClient::unix_socket(sock); }, daemon)) << daemon.log();
   auto json = test::run_cli("watch --unix '" + sock.string() + "' --json --count 5");
   EXPECT_EQ(json.exit_code, 0) << json.output;
   std::istringstream lines(json.output);
@@ -263,7 +249,7 @@ TEST_F(DaemonE2E, AKnownWorkerFromConfigCommandAndReloadReachesTheStream) {
   const auto sock = dir / "p.sock";
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
-  auto client = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  auto client = test::when_up([&] { return LineClient::unix_socket(sock); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
   const auto wait = test::scaled(10s);
   std::string seen;
@@ -400,7 +386,7 @@ TEST_F(DaemonE2E, MemoryStaysFlatOverTenThousandPairs) {
   const auto sock = dir / "p.sock";
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
-  auto client = connect_when_up([&] { return LineClient::unix_socket(sock); }, daemon);
+  auto client = test::when_up([&] { return LineClient::unix_socket(sock); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
   ASSERT_TRUE(client->read_line());  // hello
   long rss_1000 = -1, rss_10000 = -1;

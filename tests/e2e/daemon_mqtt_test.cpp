@@ -108,7 +108,7 @@ class DaemonMqtt : public ::testing::Test {
 test::TempDir* DaemonMqtt::recording_dir_ = nullptr;
 
 TEST_F(DaemonMqtt, DocumentedTopicsCarrySchemaValidPayloadsAndStatusTurnsOfflineOnSigkill) {
-  const std::uint16_t port = test::free_tcp_port();
+  const std::uint16_t port = test::free_port();
   test::MosquittoBroker broker(dir_ / "broker", anonymous_listener(port), {port});
   ASSERT_TRUE(broker.start()) << broker.log();
   test::MqttSubscriber sub({.port = port});
@@ -186,7 +186,7 @@ class StreamRecorder {
 };
 
 TEST_F(DaemonMqtt, ABrokerOutageOfThirtySecondsLosesNoSummaryOrAlert) {
-  const std::uint16_t port = test::free_tcp_port();
+  const std::uint16_t port = test::free_port();
   test::MosquittoBroker broker(dir_ / "broker", anonymous_listener(port), {port});
   ASSERT_TRUE(broker.start()) << broker.log();
   // A persistent session: the broker keeps what arrives for it while it
@@ -263,7 +263,7 @@ std::vector<std::string> outbox_payloads(const std::filesystem::path& path) {
 }
 
 TEST_F(DaemonMqtt, ARestartDeliversWhatWaitedInTheBoundedOutbox) {
-  const std::uint16_t port = test::free_tcp_port();  // no broker yet
+  const std::uint16_t port = test::free_port();  // no broker yet
   const auto outbox = dir_ / "outbox.db";
   const auto cfg = config("restart", "url = \"mqtt://127.0.0.1:" + std::to_string(port) + "\"\nposture_rate_hz = 0\noutbox_path = \"" +
                                          outbox.string() + "\"\noutbox_max_messages = 4\nreconnect_min_s = 0.5\n");
@@ -324,7 +324,7 @@ TEST_F(DaemonMqtt, TlsWithATestCaWorksAndAWrongCaFailsAsDocumented) {
   const auto certs = dir_ / "certs";
   std::filesystem::create_directories(certs);
   ASSERT_TRUE(make_certificates(certs));
-  const std::uint16_t tls_port = test::free_tcp_port(), plain_port = test::free_tcp_port();
+  const std::uint16_t tls_port = test::free_port(), plain_port = test::free_port();
   const std::string c = certs.string();
   test::MosquittoBroker broker(dir_ / "broker",
                                "listener " + std::to_string(tls_port) + " 127.0.0.1\nallow_anonymous true\ncafile " + c +
@@ -372,7 +372,7 @@ TEST_F(DaemonMqtt, TlsWithATestCaWorksAndAWrongCaFailsAsDocumented) {
 }
 
 TEST_F(DaemonMqtt, AWrongPasswordIsRefusedCountedLoggedAndTheDaemonRunsOn) {
-  const std::uint16_t port = test::free_tcp_port();
+  const std::uint16_t port = test::free_port();
   const auto passwords = dir_ / "broker-passwords";
   ASSERT_EQ(test::run_command("/usr/bin/mosquitto_passwd -c -b '" + passwords.string() + "' station right-pw").exit_code, 0);
   test::MosquittoBroker broker(dir_ / "broker",
@@ -388,7 +388,7 @@ TEST_F(DaemonMqtt, AWrongPasswordIsRefusedCountedLoggedAndTheDaemonRunsOn) {
     ::chmod(p.c_str(), 0600);
     return p.string();
   };
-  const std::uint16_t http = test::free_tcp_port();
+  const std::uint16_t http = test::free_port();
   auto bad = daemon("pw-wrong",
                     config("pw-wrong", "url = \"mqtt://127.0.0.1:" + std::to_string(port) + "\"\nusername = \"station\"\npassword_file = \"" +
                                            pw_file("wrong.pw", "wrong-pw") + "\"\noutbox_path = \"" +

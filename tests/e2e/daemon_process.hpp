@@ -13,7 +13,10 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
+
+#include "test_support.hpp"
 
 extern char** environ;
 
@@ -79,5 +82,21 @@ class DaemonProcess {
   pid_t pid_ = -1;
   std::optional<int> status_;
 };
+
+// Calls `connect` until it returns instead of throwing (the daemon may still
+// be starting), while the daemon runs, for at most 15 s (scaled).
+template <class Connect>
+std::optional<std::invoke_result_t<Connect>> when_up(Connect connect, DaemonProcess& daemon) {
+  using namespace std::chrono_literals;
+  const auto deadline = std::chrono::steady_clock::now() + scaled(15s);
+  while (std::chrono::steady_clock::now() < deadline && daemon.running()) {
+    try {
+      return connect();
+    } catch (const std::exception&) {
+      std::this_thread::sleep_for(20ms);
+    }
+  }
+  return std::nullopt;
+}
 
 }  // namespace spinewatch::test

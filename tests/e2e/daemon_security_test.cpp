@@ -69,20 +69,6 @@ std::filesystem::path write_config(const std::filesystem::path& dir, const std::
   return path;
 }
 
-// Retries `connect` until the daemon listens (it may still be starting).
-template <class T>
-std::optional<T> when_up(const std::function<T()>& connect, DaemonProcess& daemon) {
-  const auto deadline = std::chrono::steady_clock::now() + test::scaled(15s);
-  while (std::chrono::steady_clock::now() < deadline && daemon.running()) {
-    try {
-      return connect();
-    } catch (const std::exception&) {
-      std::this_thread::sleep_for(20ms);
-    }
-  }
-  return std::nullopt;
-}
-
 // A sample's value from /metrics text, or -1.
 double metric(const std::string& text, const std::string& sample) {
   const auto at = text.find("\n" + sample + " ");
@@ -119,7 +105,7 @@ TEST_F(DaemonSecurity, TcpStreamOverTlsNeedsAValidTokenAndPlainTextIsCutWithoutA
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", listen, "--unix", "none", "--http",
                         "127.0.0.1:" + std::to_string(http_port)},
                        dir / "daemon.log");
-  auto good = when_up<std::shared_ptr<TlsClient>>([&] { return std::make_shared<TlsClient>(port, pki / "ca.crt"); }, daemon);
+  auto good = test::when_up([&] { return std::make_shared<TlsClient>(port, pki / "ca.crt"); }, daemon);
   ASSERT_TRUE(good) << daemon.log();
   // (Nothing comes before the auth line, not even the hello: the silent
   // client below reads the refusal as its first line.)
@@ -220,7 +206,7 @@ TEST_F(DaemonSecurity, TcpStreamWithClientCertificatesTakesTheCasClientsOnly) {
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "0.0.0.0:" + std::to_string(port),
                         "--unix", "none"},
                        dir / "daemon.log");
-  auto client = when_up<std::shared_ptr<TlsClient>>(
+  auto client = test::when_up(
       [&] { return std::make_shared<TlsClient>(port, pki / "ca.crt", pki / "client.crt", pki / "client.key"); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
   auto hello = (*client)->read_line();  // no token asked for: the hello at once
@@ -256,7 +242,7 @@ TEST_F(DaemonSecurity, HttpOverTlsNeedsTheCasCertificateAndABearerToken) {
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix",
                         (dir / "posture.sock").string(), "--http", "0.0.0.0:" + std::to_string(port)},
                        dir / "daemon.log");
-  auto up = when_up<bool>([&] {
+  auto up = test::when_up([&] {
     if (https(port, pki, "/metrics", "").empty()) throw std::runtime_error("not yet");
     return true;
   }, daemon);
@@ -346,7 +332,7 @@ WorkerRun name_worker(const test::TempDir& dir, const std::string& id, const std
   DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   WorkerRun run;
-  auto client = when_up<test::LineClient>([&] { return test::LineClient::unix_socket(sock); }, daemon);
+  auto client = test::when_up([&] { return test::LineClient::unix_socket(sock); }, daemon);
   if (client && client->send_text("{\"command\":\"set_worker\",\"id\":\"" + id + "\"}\n")) {
     const auto deadline = std::chrono::steady_clock::now() + test::scaled(20s);
     while (std::chrono::steady_clock::now() < deadline && run.summary_worker.empty()) {
