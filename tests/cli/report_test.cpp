@@ -216,6 +216,44 @@ TEST(Report, HtmlAndCsvFromSummariesCheckedInHeadlessChromium) {
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
 }
 
+// The report `make demo` writes (scripts/demo-report, the demo's step 1 run
+// as the demo runs it): it renders in headless Chromium, with one inclination
+// dot and one load peak per tracked interval of its summaries, at the
+// summaries' figures, and one REBA cell per interval.
+TEST(Report, TheDemosReportRendersInHeadlessChromium) {
+  test::TempDir dir;
+  const auto work = dir / "demo";
+  auto r = test::run_command("cd '" + test::source_path("").string() + "' && scripts/demo-report " + SPINEWATCH_CLI +
+                             " '" + work.string() + "' 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<nlohmann::json> intervals, tracked;  // every interval; those with postures tracked
+  for (const auto& j : test::read_ndjson(work / "summaries.ndjson")) {
+    if (j.value("class", "") != "summary" || j.at("scope") != "interval") continue;
+    intervals.push_back(j);
+    if (j.at("coverage").at("tracked_s").get<double>() > 0 &&
+        j.at("lumbar_compression").at("based_on_s").get<double>() > 0)
+      tracked.push_back(j);
+  }
+  ASSERT_GE(tracked.size(), 2u) << "the demo's 3-second flexion gives one summary a second";
+
+  if (test::run_command("command -v chromium").exit_code != 0)
+    GTEST_SKIP() << "chromium is not installed (scripts/install-deps installs it)";
+  auto dump = test::run_command(chromium(dir, "--dump-dom 'file://" + (work / "report" / "report.html").string() + "'"));
+  if (dump.exit_code != 0 || dump.output.find("<svg") == std::string::npos)
+    GTEST_SKIP() << "chromium cannot run here (exit " << dump.exit_code << "): " << dump.output.substr(0, 300);
+  const std::string& dom = dump.output;
+  const auto dots = elements(dom, "incl-mean");
+  const auto peaks = elements(dom, "load-peak");
+  ASSERT_EQ(dots.size(), tracked.size());
+  ASSERT_EQ(peaks.size(), tracked.size());
+  EXPECT_EQ(elements(dom, "reba-cell").size(), intervals.size());
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    EXPECT_NEAR(num(dots[i], "data-deg"), tracked[i].at("trunk_inclination").at("mean_deg").get<double>(), 0.006);
+    EXPECT_NEAR(num(peaks[i], "data-n"), tracked[i].at("lumbar_compression").at("peak_n").get<double>(), 0.06);
+  }
+  EXPECT_EQ(elements(dom, "zone-bar").size(), 4u);
+}
+
 TEST(Report, TimeRangesPeriodsAndBadInput) {
   test::TempDir dir;
   const auto summaries = write_summaries(dir);
