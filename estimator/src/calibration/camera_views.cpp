@@ -11,23 +11,26 @@
 namespace spinewatch::calibration_detail {
 namespace {
 
-// Mean displacement (px) of the corners two observations share; infinite
-// when they share fewer than half of the newer one's.
 double displacement(const Observation& a, const Observation& b) {
-  std::map<int, cv::Point2f> at;
-  for (std::size_t i = 0; i < a.ids.size(); ++i) at[a.ids[i]] = a.pixels[i];
-  double sum = 0;
-  int shared = 0;
-  for (std::size_t i = 0; i < b.ids.size(); ++i)
-    if (auto it = at.find(b.ids[i]); it != at.end()) {
-      sum += cv::norm(it->second - b.pixels[i]);
-      ++shared;
-    }
-  if (2 * shared < static_cast<int>(b.ids.size())) return INFINITY;
-  return sum / shared;
+  return shared_corner_displacement(a.ids, a.pixels, b.ids, b.pixels);
 }
 
 }  // namespace
+
+double shared_corner_displacement(const std::vector<int>& ids_a, const std::vector<cv::Point2f>& pixels_a,
+                                  const std::vector<int>& ids_b, const std::vector<cv::Point2f>& pixels_b) {
+  std::map<int, cv::Point2f> at;
+  for (std::size_t i = 0; i < ids_a.size(); ++i) at[ids_a[i]] = pixels_a[i];
+  double sum = 0;
+  int shared = 0;
+  for (std::size_t i = 0; i < ids_b.size(); ++i)
+    if (auto it = at.find(ids_b[i]); it != at.end()) {
+      sum += cv::norm(it->second - pixels_b[i]);
+      ++shared;
+    }
+  if (shared == 0 || 2 * shared < static_cast<int>(ids_b.size())) return INFINITY;
+  return sum / shared;
+}
 
 cv::Mat camera_matrix_cv(const CameraModel& camera) {
   cv::Mat K;

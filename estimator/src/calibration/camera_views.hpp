@@ -9,6 +9,12 @@
 
 namespace spinewatch::calibration_detail {
 
+// Mean displacement (px) of the corners two board observations share (by
+// corner id), from a to b; infinite when they share none, or fewer than
+// half of b's: a different view of the board, not the same one moved.
+double shared_corner_displacement(const std::vector<int>& ids_a, const std::vector<cv::Point2f>& pixels_a,
+                                  const std::vector<int>& ids_b, const std::vector<cv::Point2f>& pixels_b);
+
 struct Observation {
   int frame = 0;
   std::vector<int> ids;

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "camera_views.hpp"
+
 namespace spinewatch {
 
 const char* to_string(FrameVerdict verdict) {
@@ -22,17 +24,7 @@ ViewCollector::ViewCollector(const CalibrationBoard& board, ViewCollectorOptions
     : board_(&board), options_(options) {}
 
 double ViewCollector::displacement(const BoardDetection& a, const BoardDetection& b) {
-  std::map<int, cv::Point2f> at;
-  for (std::size_t i = 0; i < a.ids.size(); ++i) at[a.ids[i]] = a.pixels[i];
-  double sum = 0;
-  int shared = 0;
-  for (std::size_t i = 0; i < b.ids.size(); ++i)
-    if (auto it = at.find(b.ids[i]); it != at.end()) {
-      sum += cv::norm(it->second - b.pixels[i]);
-      ++shared;
-    }
-  if (shared == 0 || 2 * shared < static_cast<int>(b.ids.size())) return INFINITY;
-  return sum / shared;
+  return calibration_detail::shared_corner_displacement(a.ids, a.pixels, b.ids, b.pixels);
 }
 
 FrameVerdict ViewCollector::offer(const cv::Mat& grey) {
