@@ -63,11 +63,15 @@ Result<SetWorkerCommand> parse_client_command(std::string_view line) {
   if (*command != "set_worker")
     return Error{fmt::format("command: \"{}\" is not a command (known: set_worker)",
                              printable(command->get<std::string>()))};
-  for (const auto& [key, value] : j.items())
+  // The key by name, not a structured binding: clang 14 (the fuzz
+  // build) cannot capture a binding in a lambda.
+  for (const auto& item : j.items()) {
+    const std::string& key = item.key();
     if (key != "command" && key != "id" &&
         std::none_of(std::begin(kFields), std::end(kFields), [&](const Bounds& b) { return key == b.key; }))
       return Error{fmt::format(
           "{}: not a field of set_worker (stature_mm, mass_kg, c7_height_mm, iliac_crest_height_mm, id)", printable(key))};
+  }
   SetWorkerCommand c;
   if (const auto id = j.find("id"); id != j.end() && !id->is_null()) {
     if (!id->is_string()) return Error{fmt::format("id: expected a string or null, got {}", id->type_name())};

@@ -19,6 +19,7 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "spinewatch/estimator/camera_model.hpp"
+#include "storage_precheck.hpp"
 
 namespace spinewatch {
 namespace {
@@ -184,48 +185,6 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
     return Error{fmt::format("{}R: not a rotation matrix (|R·Rᵀ − I| = {:.3g}, det = {:.3g})", where,
                              orthonormality, cam->R.determinant())};
   return cam;
-}
-
-// Which FileStorage formats a reader takes: calibration.yaml is YAML
-// (interfaces.md §2); one camera's intrinsics from OpenCV's samples may be
-// XML too (the calibration tutorial writes out_camera_data.xml).
-enum class StorageFormats : std::uint8_t { YamlOnly, YamlOrXml };
-
-// What OpenCV 4.6 cannot be trusted to read, refused before it sees the
-// file. Its YAML reader never returns on some malformed files (the
-// calibration_yaml fuzzer found "%YAML:1.0\n-----0\n-\n" and
-// "%YAML:1.0\n a: o\nf---\n"): a line holding "---" other than the
-// document marker alone is refused before OpenCV sees it (OpenCV writes
-// "---" alone, and no value of a calibration holds it). Its XML reader
-// dereferences null on a header as short as "<?xml e=" (the same fuzzer):
-// XML is taken only where allowed and only after a whole
-// `<?xml version="…"?>` declaration. JSON is never taken, nor a NUL byte.
-// Other loops in OpenCV's reader may remain: docs/testing.md, "Fuzzing".
-Status check_before_opencv(const std::string& text, const std::string& file, StorageFormats formats) {
-  const std::size_t first = text.find_first_not_of(" \t\r\n");
-  const char opening = first == std::string::npos ? '\0' : text[first];
-  if ((opening == '<' || opening == '{') && formats == StorageFormats::YamlOnly)
-    return Error{fmt::format("{}: XML or JSON storage; calibration.yaml is read as YAML only", file)};
-  if (opening == '{') return Error{fmt::format("{}: JSON storage; read as YAML or XML only", file)};
-  if (text.find('\0') != std::string::npos) return Error{fmt::format("{}: a NUL byte: not a text file", file)};
-  if (opening == '<') {
-    const std::size_t line_end = std::min(text.find('\n', first), text.size());
-    const std::string_view declaration(text.data() + first, line_end - first);
-    if (declaration.rfind("<?xml version=\"", 0) != 0 || declaration.find("?>") == std::string_view::npos)
-      return Error{fmt::format("{}: XML without a whole <?xml version=\"1.0\"?> declaration on its first line", file)};
-    return Ok{};
-  }
-  std::size_t line = 1;
-  for (std::size_t at = 0; at < text.size(); ++line) {
-    const std::size_t end = std::min(text.find('\n', at), text.size());
-    const std::string_view l(text.data() + at, end - at);
-    const std::string_view trimmed = l.substr(0, l.find_last_not_of(" \t\r") + 1);
-    if (l.find("---") != std::string_view::npos && trimmed != "---")
-      return Error{fmt::format("{}: line {}: \"{}\": \"---\" only as a document marker on a line of its own", file,
-                               line, printable(l.substr(0, 16)))};
-    at = end + 1;
-  }
-  return Ok{};
 }
 
 // Opens `path` for reading after the checks above. Every use of the

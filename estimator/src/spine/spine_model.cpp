@@ -7,7 +7,6 @@ namespace spinewatch {
 namespace {
 
 constexpr std::size_t kFirstLumbar = 12;  // L1
-constexpr double kDeg = M_PI / 180.0;
 
 VertebraBody build_body(std::size_t i, const BodyDims& dims, const SpineModelOptions& o) {
   VertebraBody b;
