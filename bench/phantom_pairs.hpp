@@ -1,12 +1,26 @@
 #pragma once
 // Phantom frame pairs as the cameras deliver them (YUYV, 320×240), for the
 // benches that time the daemon's pipeline with something attached to it.
+#include <string>
 #include <vector>
 
 #include "spinewatch/frames/frame_pair.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch::bench {
+
+// The pipeline benches' scene: the petite subject (a generic body, so the
+// estimator runs with the generic spine placement) through 90 frames of
+// flexion.
+inline Result<phantom::PhantomOptions> petite_flexion() {
+  phantom::PhantomOptions options;
+  options.scenario = "flexion";
+  options.frames = 90;
+  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
+  if (!subject.ok()) return subject.error();
+  options.subject = *subject;
+  return options;
+}
 
 inline std::vector<FramePair> phantom_pairs(const phantom::PhantomOptions& options) {
   std::vector<FramePair> pairs;

@@ -49,15 +49,12 @@ void view(std::uint16_t port, const std::atomic<bool>& stop) {
 void BM_PipelinePairWithViewers(benchmark::State& state) {
   const int viewers = static_cast<int>(state.range(0));
   spdlog::set_level(spdlog::level::warn);
-  phantom::PhantomOptions options;
-  options.scenario = "flexion";
-  options.frames = 90;
-  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
-  if (!subject.ok()) {
-    state.SkipWithError(subject.error().message.c_str());
+  auto scene = bench::petite_flexion();
+  if (!scene.ok()) {
+    state.SkipWithError(scene.error().message.c_str());
     return;
   }
-  options.subject = *subject;
+  const phantom::PhantomOptions& options = *scene;
   const auto pairs = bench::phantom_pairs(options);
   if (pairs.empty()) {
     state.SkipWithError("phantom frames");

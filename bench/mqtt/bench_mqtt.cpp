@@ -81,15 +81,12 @@ class PipelineRig {
  public:
   explicit PipelineRig(bool mqtt_on) {
     spdlog::set_level(spdlog::level::warn);
-    phantom::PhantomOptions options;
-    options.scenario = "flexion";
-    options.frames = 90;
-    auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/petite.json");
-    if (!subject.ok()) {
-      error = subject.error().message;
+    auto scene = bench::petite_flexion();
+    if (!scene.ok()) {
+      error = scene.error().message;
       return;
     }
-    options.subject = *subject;
+    const phantom::PhantomOptions& options = *scene;
     pairs_ = bench::phantom_pairs(options);
     if (pairs_.empty()) {
       error = "phantom frames";
