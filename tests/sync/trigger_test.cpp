@@ -59,8 +59,8 @@ TEST(TriggerMaster, DrivesPulsesAtTheRateAndWidthOnAbsoluteDeadlines) {
   ASSERT_GE(transitions.size(), 2 * edges.size() - 1);
   EXPECT_TRUE(transitions.front().high);
   EXPECT_FALSE(transitions.back().high);  // left low
-  // A pulse is never shorter than asked (its fall waits for an absolute
-  // deadline); how much longer depends on how late the thread wakes, which
+  // A pulse is never shorter than asked (its fall is timed from the rise as
+  // it happened); how much longer depends on how late the thread wakes, which
   // on a loaded host without real-time priority is the scheduler's choice
   // (a mean of 1.41 ms was seen with two builds beside the test), so the
   // typical pulse is checked by its median, not its mean.

@@ -78,7 +78,11 @@ void TriggerMaster::run() {
     latency_.add(woke - deadline);
     edges_.fetch_add(1);
     if (on_edge_) on_edge_(edge);
-    sleep_until(deadline + pulse_ns);
+    // The fall is timed from the rise as it happened, not from its
+    // deadline: a late wake-up must not shorten the pulse below what the
+    // cameras need (from the deadline, a rise 1 ms late on a loaded host
+    // left a 14 µs pulse). The rises stay on their absolute deadlines.
+    sleep_until(edge + pulse_ns);
     drive(false);
   }
   (void)line_.set(false);
