@@ -145,6 +145,12 @@ TEST(Config, AMessageStaysOneLineWhateverTheInputHolds) {
   auto key = parse_config("[cameras]\n\"f\\u0001ps\" = 3\n", "station.toml");
   ASSERT_FALSE(key.ok());
   EXPECT_EQ(key.error().message, "station.toml:2: cameras.f\\x01ps: unknown key");
+  // A mode's value is quoted too (the config_toml fuzzer, session 11:
+  // corpus/config_toml/regression-line-end-in-a-mode.toml).
+  auto mode = parse_config("[log]\nlevel = \"in\\nfo\"\n", "station.toml");
+  ASSERT_FALSE(mode.ok());
+  EXPECT_EQ(mode.error().message.find('\n'), std::string::npos) << mode.error().message;
+  EXPECT_NE(mode.error().message.find("log.level: \"in\\nfo\" is not one of: "), std::string::npos) << mode.error().message;
 }
 
 TEST(Config, MissingFile) {

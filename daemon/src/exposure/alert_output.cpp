@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/frames/printable.hpp"
+
 namespace spinewatch {
 
 Result<AlertSignalMode> parse_alert_signal_mode(std::string_view text) {
   if (text == "steady") return AlertSignalMode::Steady;
   if (text == "pulse") return AlertSignalMode::Pulse;
-  return Error{fmt::format("\"{}\" is not one of: steady, pulse", text)};
+  return Error{fmt::format("\"{}\" is not one of: steady, pulse", printable(text))};
 }
 
 std::string_view to_string(AlertSignalMode mode) { return mode == AlertSignalMode::Pulse ? "pulse" : "steady"; }

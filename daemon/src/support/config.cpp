@@ -72,7 +72,7 @@ Key string_key(std::string name, std::string& (*field)(Config&), std::vector<std
             if (!n.is_string()) return fmt::format("expected a string, got {}", toml::impl::node_type_friendly_names[static_cast<int>(n.type())]);
             std::string v = *n.value<std::string>();
             if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end())
-              return fmt::format("\"{}\" is not one of: {}", v, fmt::join(allowed, ", "));
+              return fmt::format("\"{}\" is not one of: {}", printable(v), fmt::join(allowed, ", "));
             field(c) = std::move(v);
             return std::nullopt;
           }};
@@ -105,7 +105,7 @@ Key enum_key(std::string name, E& (*field)(Config&), std::vector<std::pair<std::
               }
               allowed.push_back(text);
             }
-            return fmt::format("\"{}\" is not one of: {}", v, fmt::join(allowed, ", "));
+            return fmt::format("\"{}\" is not one of: {}", printable(v), fmt::join(allowed, ", "));
           }};
 }
 

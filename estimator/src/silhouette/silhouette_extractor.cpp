@@ -8,6 +8,7 @@
 
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/estimator/silhouette/threshold_row.hpp"
+#include "spinewatch/frames/printable.hpp"
 
 namespace spinewatch {
 
@@ -15,7 +16,7 @@ Result<BackgroundMode> parse_background_mode(std::string_view text) {
   if (text == "learn") return BackgroundMode::Learn;
   if (text == "image") return BackgroundMode::Image;
   if (text == "threshold") return BackgroundMode::Threshold;
-  return Error{"silhouette.background: \"" + std::string(text) + "\" is not one of learn, image, threshold"};
+  return Error{"silhouette.background: \"" + printable(text) + "\" is not one of learn, image, threshold"};
 }
 
 std::string_view to_string(BackgroundMode mode) {
