@@ -8,6 +8,7 @@
 
 #include "spinewatch/capture/json_text.hpp"
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::phantom {
@@ -23,8 +24,11 @@ class FieldReader {
   std::string where(std::string_view key) const {
     return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
   }
+  // The key may be the file's own (an unknown field): quoted through
+  // printable(), so that a line end in it cannot split the message (the
+  // phantom_subject fuzzer, session 11).
   Error error(std::string_view key, std::string_view problem) const {
-    return Error{fmt::format("{}: {}: {}", source_, where(key), problem)};
+    return Error{fmt::format("{}: {}: {}", source_, where(printable(key)), problem)};
   }
 
   // Typos in a subject file would otherwise be silently ignored.
