@@ -5,8 +5,10 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <thread>
@@ -126,7 +128,8 @@ TEST(V4l2, TwoVividCameras) {
   EXPECT_GT(frames[0].front().info.timestamp_ns, t_start - 1'000'000'000);
 
   // Free-run pairing by timestamp: two free-running instances at the same
-  // rate pair frame for frame (the nearest partner is always within half a period).
+  // rate pair frame for frame where the nearest partner is within the
+  // tolerance (checked against the timestamps below).
   sync::FramePairer pairer({.fps = frontal.fps()});
   std::size_t next[2] = {0, 0};
   std::vector<FramePair> pairs;
@@ -142,7 +145,18 @@ TEST(V4l2, TwoVividCameras) {
   pairer.flush();
   while (auto pair = pairer.pop()) pairs.push_back(std::move(*pair));
   const auto& stats = pairer.stats();
-  EXPECT_GE(pairs.size(), static_cast<std::size_t>(kFrames - 4)) << stats.summary();
+  // How many pairs the timestamps allow: frontal frames with a lateral one
+  // within the pairer's tolerance. Two free-running instances keep the phase
+  // offset they started with; near half a period (seen on a loaded host:
+  // 13 ms mean skew, 20 ms at most, at 25 fps) jitter puts some nearest
+  // partners beyond the tolerance, and those frames are rightly unmatched.
+  std::size_t matchable = 0;
+  for (const Captured& f : frames[0])
+    matchable += std::any_of(frames[1].begin(), frames[1].end(), [&](const Captured& l) {
+      return std::llabs(l.info.timestamp_ns - f.info.timestamp_ns) <= pairer.tolerance_ns();
+    });
+  EXPECT_GE(pairs.size() + 4, matchable) << stats.summary();
+  EXPECT_GE(pairs.size(), static_cast<std::size_t>(kFrames / 2)) << stats.summary();
   EXPECT_LE(stats.pair_skew.max_abs_ns, pairer.tolerance_ns()) << stats.summary();
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     EXPECT_EQ(pairs[i].sequence, i);
