@@ -302,6 +302,10 @@ TEST_F(DaemonHttp, OffByDefaultAndANetworkAddressRefusedUnlessAllowed) {
       << allowed.log();
   EXPECT_NE(allowed.log().find("warning: unauthenticated: http " + address + " serves the live view"), std::string::npos)
       << allowed.log();
+  // SIGTERM only once it is ready: before its signal set exists the
+  // default action ends the daemon (seen under ASan; docs/testing.md).
+  EXPECT_TRUE(test::eventually([&] { return allowed.log().find("ready") != std::string::npos; }, test::scaled(10s)))
+      << allowed.log();
   allowed.signal(SIGTERM);
   EXPECT_EQ(allowed.wait_exit(test::scaled(3s)), 0) << allowed.log();
 
