@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <string_view>
 
 #include "spinewatch/frames/printable.hpp"
@@ -187,7 +186,7 @@ Result<CameraModel> read_camera(const cv::FileStorage& fs, const std::string& fi
   return cam;
 }
 
-// Opens `path` for reading after the checks above. Every use of the
+// Opens `path` for reading after check_before_opencv (storage_precheck.hpp). Every use of the
 // FileStorage must stay inside read_guarded's try: OpenCV's reader throws
 // cv::Exception from places a caller would not expect (indexing a root
 // that is not a map) and lets standard exceptions through
