@@ -150,6 +150,27 @@ TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
   EXPECT_EQ(bad_listen.exit_code, 1) << bad_listen.output;
 }
 
+// A stop asked for while the daemon starts (systemd stopping a unit that
+// is still opening its cameras, Ctrl-C at once) is a clean stop once it
+// can be taken, not the signal's default action: the signals are held
+// from main()'s first line until the daemon's signal set exists.
+TEST_F(DaemonE2E, SigtermWhileStartingIsACleanStop) {
+  const auto config = write_config("source = \"recording\"\nrecording = \"\"\n");  // the embedded default
+  for (int signo : {SIGTERM, SIGINT}) {
+    DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+                         dir / "start.log");
+    ASSERT_GT(daemon.pid(), 0);
+    // "starting" is logged before the source, models and sockets are set up.
+    ASSERT_TRUE(test::eventually([&] { return daemon.log().find("starting") != std::string::npos; }, test::scaled(10s)))
+        << daemon.log();
+    daemon.signal(signo);
+    EXPECT_EQ(daemon.wait_exit(test::scaled(10s)), 0) << daemon.log();
+    EXPECT_NE(daemon.log().find(signo == SIGTERM ? "SIGTERM: stopping" : "SIGINT: stopping"), std::string::npos)
+        << daemon.log();
+    EXPECT_NE(daemon.log().find("stopped in"), std::string::npos) << daemon.log();
+  }
+}
+
 // Safe by default (issue 21, docs/security.md): a TCP listener on a
 // network address is refused at start while nothing authenticates its
 // clients; allowed explicitly, it starts with a warning in the log and in

@@ -4,6 +4,8 @@
 #include <csignal>
 #include <mutex>
 
+#include <pthread.h>
+
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
 #include <boost/asio.hpp>
@@ -565,6 +567,20 @@ struct Daemon::Impl {
   }
 };
 
+namespace {
+sigset_t stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, s);
+  return set;
+}
+}  // namespace
+
+void hold_stop_signals() {
+  const sigset_t set = stop_signals();
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+}
+
 Daemon::Daemon() : impl_(std::make_unique<Impl>()) {}
 Daemon::~Daemon() = default;
 
@@ -737,6 +753,11 @@ int Daemon::run() {
   Impl& d = *impl_;
   asio::signal_set signals(d.control, SIGINT, SIGTERM, SIGHUP);
   d.wait_signals(signals);
+  // The set's handlers are installed: a signal held since start-up is
+  // delivered now, to this thread (the others keep the mask), and only
+  // queues the stop for the loop below.
+  const sigset_t held = stop_signals();
+  pthread_sigmask(SIG_UNBLOCK, &held, nullptr);
   asio::steady_timer status_timer(d.control), watchdog_timer(d.control);
   d.every_second(status_timer);
   if (auto interval = SystemdNotifier::watchdog_interval()) {

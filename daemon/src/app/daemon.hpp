@@ -17,13 +17,21 @@ struct DaemonOverrides {  // from the command line; win over [publish]
   std::optional<std::string> http;  // wins over [http] listen
 };
 
+// Called first in main(): SIGINT, SIGTERM and SIGHUP are held pending
+// until run() has its signal set. Their default action would otherwise end
+// a daemon signalled while it starts (opening cameras, loading models)
+// without a clean stop, and every thread started meanwhile inherits the
+// mask, so none of them takes the signal either.
+void hold_stop_signals();
+
 class Daemon {
  public:
   // Everything that can fail before READY: calibration, source, sockets.
   static Result<std::unique_ptr<Daemon>> create(std::filesystem::path config_path, Config config,
                                                 DaemonOverrides overrides);
   ~Daemon();
-  // Runs until SIGTERM or SIGINT; the exit code.
+  // Runs until SIGTERM or SIGINT (one held since hold_stop_signals()
+  // included); the exit code.
   int run();
 
  private:

@@ -8,6 +8,7 @@
 
 int main(int argc, char** argv) {
   using namespace spinewatch;
+  hold_stop_signals();  // before any thread exists
   CLI::App app{"spinewatchd: spine posture daemon; publishes the posture stream on its sockets", "spinewatchd"};
   app.set_version_flag("--version", kVersion);
   std::string config_path = "/etc/spinewatch/spinewatch.toml";
