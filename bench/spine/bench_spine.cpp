@@ -7,6 +7,7 @@
 #include "spinewatch/estimator/load/schultz.hpp"
 #include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/stiffness_fit.hpp"
+#include "spinewatch/estimator/spine/vertebra_geometry.hpp"
 
 namespace spinewatch {
 namespace {
@@ -58,6 +59,29 @@ void BM_LoadsAndErgonomics(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_LoadsAndErgonomics)->Unit(benchmark::kMicrosecond);
+
+// Building a subject's spine voxelises each vertebra (1 mm voxels): an L3
+// sized lumbar vertebra with its processes, each primitive on its own
+// bounds (Arg 0) against every voxel of the union's bounds tested against
+// every primitive (Arg 1, the reference).
+void BM_VoxeliseVertebra(benchmark::State& state) {
+  const Solid solid = vertebra_solid(BodyDims{28, 50, 35}, generic_vertebra_geometry().lumbar);
+  const bool reference = state.range(0) == 1;
+  std::size_t voxels = 0;
+  for (auto _ : state) {
+    const auto points = reference ? voxelise_reference(solid, 1.0) : voxelise(solid, 1.0);
+    voxels = points.size();
+    benchmark::DoNotOptimize(points.data());
+  }
+  state.counters["voxels"] = static_cast<double>(voxels);
+}
+BENCHMARK(BM_VoxeliseVertebra)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The whole subject spine (17 vertebrae, their bodies, discs).
+void BM_SpineModelFromSubject(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(SpineModel::from_subject(subject().spine));
+}
+BENCHMARK(BM_SpineModelFromSubject)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace spinewatch

@@ -1,6 +1,7 @@
 // Particle bodies (Eqs. 1–9), vertebra solids, SUBJECT.json and the model's
 // discs.
 #include <cmath>
+#include <random>
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -66,6 +67,45 @@ TEST(MassProperties, VoxelisedEllipticCylinderMatchesAnalyticValues) {
   EXPECT_NEAR(mp.inertia_kg_mm2(1, 1), m * (a * a + b * b) / 4, 0.02 * m * (a * a + b * b) / 4);
   EXPECT_NEAR(mp.inertia_kg_mm2(0, 0), m * (b * b / 4 + h * h / 12), 0.02 * m * (b * b / 4 + h * h / 12));
   EXPECT_NEAR(mp.inertia_kg_mm2(2, 2), m * (a * a / 4 + h * h / 12), 0.02 * m * (a * a / 4 + h * h / 12));
+}
+
+// voxelise() tests each primitive on its own bounds only; it must give
+// exactly the reference's points (every voxel against every primitive),
+// in the same order, so the masses and inertias do not move by a bit:
+// every vertebra solid at the sizes the model uses, and random unions of
+// turned boxes and cylinders whose faces fall on and off the grid.
+TEST(MassProperties, VoxeliseGivesTheReferencesPointsInItsOrder) {
+  const VertebraGeometry& g = generic_vertebra_geometry();
+  for (const BodyDims dims : {BodyDims{18, 30, 20}, BodyDims{24, 40, 28}, BodyDims{28, 50, 35}})
+    for (const PosteriorElements* posterior : {&g.thoracic, &g.lumbar})
+      for (const Solid& solid : {vertebra_solid(dims, *posterior), vertebral_body_solid(dims)})
+        for (double voxel : {0.5, 1.0, 1.5}) {
+          const auto fast = voxelise(solid, voxel), reference = voxelise_reference(solid, voxel);
+          ASSERT_FALSE(reference.empty());
+          ASSERT_EQ(fast, reference) << dims.height_mm << " mm body, voxel " << voxel;
+        }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Solid solid;
+    const int parts = 1 + trial % 4;
+    for (int p = 0; p < parts; ++p) {
+      // Every fourth centre and size on whole millimetres: faces on the grid.
+      auto value = [&](double scale) { return trial % 4 == 0 ? std::round(scale * u(rng)) : scale * u(rng); };
+      const Eigen::Vector3d centre(value(20), value(20), value(20));
+      if ((trial + p) % 2) {
+        solid.cylinders.push_back({centre, 2 + std::abs(value(8)), 2 + std::abs(value(8)), 1 + std::abs(value(8))});
+      } else {
+        const Eigen::Matrix3d axes =
+            Eigen::AngleAxisd(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+        solid.boxes.push_back({centre, trial % 8 == 0 ? Eigen::Matrix3d::Identity() : axes,
+                               Eigen::Vector3d(1 + std::abs(value(9)), 1 + std::abs(value(9)), 1 + std::abs(value(9)))});
+      }
+    }
+    const double voxel = trial % 3 == 0 ? 1.0 : 0.5 + std::abs(u(rng));
+    ASSERT_EQ(voxelise(solid, voxel), voxelise_reference(solid, voxel)) << "trial " << trial;
+  }
+  EXPECT_TRUE(voxelise(Solid{}, 1.0).empty());
 }
 
 TEST(VertebraGeometry, EmbeddedFileParsesAndBadValuesAreNamed) {

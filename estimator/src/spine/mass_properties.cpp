@@ -1,50 +1,109 @@
 #include "spinewatch/estimator/spine/mass_properties.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <optional>
 
 namespace spinewatch {
 
+namespace {
+
+// One test per primitive, shared by contains() and voxelise() so that both
+// decide every point alike, to the last bit.
+bool inside(const EllipticCylinder& c, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - c.centre;
+  return std::abs(d.y()) <= c.half_height &&
+         (d.x() * d.x()) / (c.semi_x * c.semi_x) + (d.z() * d.z()) / (c.semi_z * c.semi_z) <= 1.0;
+}
+bool inside(const OrientedBox& b, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = b.axes.transpose() * (p - b.centre);
+  return (d.cwiseAbs() - b.half_extents).maxCoeff() <= 0;
+}
+Eigen::AlignedBox3d bounds_of(const EllipticCylinder& c) {
+  const Eigen::Vector3d h(c.semi_x, c.half_height, c.semi_z);
+  return {c.centre - h, c.centre + h};
+}
+Eigen::AlignedBox3d bounds_of(const OrientedBox& b) {
+  const Eigen::Vector3d h = b.axes.cwiseAbs() * b.half_extents;
+  return {b.centre - h, b.centre + h};
+}
+
+// The grid over a solid's bounds: cell (i, j, k) is centred on
+// (first + (i, j, k)) · voxel_mm.
+struct VoxelGrid {
+  Eigen::Vector3d first, last;  // in cells (whole numbers)
+  double voxel_mm;
+  Eigen::Array3i size() const { return (last - first).cast<int>().array() + 1; }
+  Eigen::Vector3d centre(int i, int j, int k) const {
+    // As the reference counts: first + i is exact in a double.
+    return Eigen::Vector3d(first.x() + i, first.y() + j, first.z() + k) * voxel_mm;
+  }
+};
+std::optional<VoxelGrid> grid_over(const Solid& solid, double voxel_mm) {
+  const Eigen::AlignedBox3d box = solid.bounds();
+  if (box.isEmpty() || !(voxel_mm > 0)) return std::nullopt;
+  return VoxelGrid{(box.min() / voxel_mm).array().floor(), (box.max() / voxel_mm).array().ceil(), voxel_mm};
+}
+
+}  // namespace
+
 bool Solid::contains(const Eigen::Vector3d& p) const {
-  for (const auto& c : cylinders) {
-    const Eigen::Vector3d d = p - c.centre;
-    if (std::abs(d.y()) <= c.half_height &&
-        (d.x() * d.x()) / (c.semi_x * c.semi_x) + (d.z() * d.z()) / (c.semi_z * c.semi_z) <= 1.0)
-      return true;
-  }
-  for (const auto& b : boxes) {
-    const Eigen::Vector3d d = b.axes.transpose() * (p - b.centre);
-    if ((d.cwiseAbs() - b.half_extents).maxCoeff() <= 0) return true;
-  }
+  for (const auto& c : cylinders)
+    if (inside(c, p)) return true;
+  for (const auto& b : boxes)
+    if (inside(b, p)) return true;
   return false;
 }
 
 Eigen::AlignedBox3d Solid::bounds() const {
   Eigen::AlignedBox3d box;
-  for (const auto& c : cylinders) {
-    const Eigen::Vector3d h(c.semi_x, c.half_height, c.semi_z);
-    box.extend(c.centre - h);
-    box.extend(c.centre + h);
-  }
-  for (const auto& b : boxes) {
-    const Eigen::Vector3d h = b.axes.cwiseAbs() * b.half_extents;
-    box.extend(b.centre - h);
-    box.extend(b.centre + h);
-  }
+  for (const auto& c : cylinders) box.extend(bounds_of(c));
+  for (const auto& b : boxes) box.extend(bounds_of(b));
   return box;
 }
 
 std::vector<Eigen::Vector3d> voxelise(const Solid& solid, double voxel_mm) {
   std::vector<Eigen::Vector3d> out;
-  const Eigen::AlignedBox3d box = solid.bounds();
-  if (box.isEmpty() || !(voxel_mm > 0)) return out;
-  const Eigen::Vector3d lo = (box.min() / voxel_mm).array().floor();
-  const Eigen::Vector3d hi = (box.max() / voxel_mm).array().ceil();
-  for (double x = lo.x(); x <= hi.x(); ++x)
-    for (double y = lo.y(); y <= hi.y(); ++y)
-      for (double z = lo.z(); z <= hi.z(); ++z) {
-        const Eigen::Vector3d p = Eigen::Vector3d(x, y, z) * voxel_mm;
-        if (solid.contains(p)) out.push_back(p);
-      }
+  const auto grid = grid_over(solid, voxel_mm);
+  if (!grid) return out;
+  const Eigen::Array3i n = grid->size();
+  std::vector<std::uint8_t> in(static_cast<std::size_t>(n.prod()), 0);
+  const auto at = [&](int i, int j, int k) { return (static_cast<std::size_t>(i) * n.y() + j) * n.z() + k; };
+  std::size_t inside_count = 0;
+  const auto mark = [&](const auto& primitive) {
+    // The primitive's cells, one more on each side (a point on its bounds
+    // counts as inside), within the grid.
+    const Eigen::AlignedBox3d b = bounds_of(primitive);
+    const Eigen::Array3i lo = ((b.min() / voxel_mm).array().floor() - grid->first.array()).cast<int>() - 1;
+    const Eigen::Array3i hi = ((b.max() / voxel_mm).array().ceil() - grid->first.array()).cast<int>() + 1;
+    const Eigen::Array3i from = lo.max(0), to = hi.min(n - 1);
+    for (int i = from.x(); i <= to.x(); ++i)
+      for (int j = from.y(); j <= to.y(); ++j)
+        for (int k = from.z(); k <= to.z(); ++k)
+          if (!in[at(i, j, k)] && inside(primitive, grid->centre(i, j, k))) {
+            in[at(i, j, k)] = 1;
+            ++inside_count;
+          }
+  };
+  for (const auto& c : solid.cylinders) mark(c);
+  for (const auto& b : solid.boxes) mark(b);
+  out.reserve(inside_count);
+  for (int i = 0; i < n.x(); ++i)
+    for (int j = 0; j < n.y(); ++j)
+      for (int k = 0; k < n.z(); ++k)
+        if (in[at(i, j, k)]) out.push_back(grid->centre(i, j, k));
+  return out;
+}
+
+std::vector<Eigen::Vector3d> voxelise_reference(const Solid& solid, double voxel_mm) {
+  std::vector<Eigen::Vector3d> out;
+  const auto grid = grid_over(solid, voxel_mm);
+  if (!grid) return out;
+  const Eigen::Array3i n = grid->size();
+  for (int i = 0; i < n.x(); ++i)
+    for (int j = 0; j < n.y(); ++j)
+      for (int k = 0; k < n.z(); ++k)
+        if (solid.contains(grid->centre(i, j, k))) out.push_back(grid->centre(i, j, k));
   return out;
 }
 

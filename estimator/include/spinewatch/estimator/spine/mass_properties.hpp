@@ -33,8 +33,15 @@ struct Solid {
 };
 
 // Centres of the voxels of a regular grid (spacing voxel_mm, cells centred on
-// multiples of voxel_mm) that lie inside the solid.
+// multiples of voxel_mm) that lie inside the solid, in x, then y, then z
+// order. Each primitive is tested only on the voxels of its own bounds: a
+// vertebra's union box is mostly empty (the processes reach far from the
+// body), so testing every voxel against every primitive cost ten times
+// the work, and under the sanitizers most of building a subject's spine.
 std::vector<Eigen::Vector3d> voxelise(const Solid& solid, double voxel_mm);
+// Every voxel of the union's bounds against every primitive: what
+// voxelise() is tested against (the same points, in the same order).
+std::vector<Eigen::Vector3d> voxelise_reference(const Solid& solid, double voxel_mm);
 
 struct MassProperties {
   double mass_kg = 0;                                           // Eq. 1
