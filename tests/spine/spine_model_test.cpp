@@ -72,14 +72,14 @@ TEST(MassProperties, VoxelisedEllipticCylinderMatchesAnalyticValues) {
 // voxelise() tests each primitive on its own bounds only; it must give
 // exactly the reference's points (every voxel against every primitive),
 // in the same order, so the masses and inertias do not move by a bit:
-// every vertebra solid at the sizes the model uses, and random unions of
+// every vertebra solid at three sizes, and random unions of
 // turned boxes and cylinders whose faces fall on and off the grid.
 TEST(MassProperties, VoxeliseGivesTheReferencesPointsInItsOrder) {
   const VertebraGeometry& g = generic_vertebra_geometry();
   for (const BodyDims dims : {BodyDims{18, 30, 20}, BodyDims{24, 40, 28}, BodyDims{28, 50, 35}})
     for (const PosteriorElements* posterior : {&g.thoracic, &g.lumbar})
       for (const Solid& solid : {vertebra_solid(dims, *posterior), vertebral_body_solid(dims)})
-        for (double voxel : {0.5, 1.0, 1.5}) {
+        for (double voxel : {1.0, 1.3}) {  // the model's, and one whose grid falls elsewhere
           const auto fast = voxelise(solid, voxel), reference = voxelise_reference(solid, voxel);
           ASSERT_FALSE(reference.empty());
           ASSERT_EQ(fast, reference) << dims.height_mm << " mm body, voxel " << voxel;
