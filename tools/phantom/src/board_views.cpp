@@ -61,7 +61,7 @@ BoardRenderer::BoardRenderer(const CalibrationBoard& board, const CameraModel& c
     }
 }
 
-cv::Mat BoardRenderer::render(const BoardPose& pose, const cv::Mat& background) const {
+cv::Mat BoardRenderer::render(const BoardPose& pose, const cv::Mat& background) {
   // Board to camera: x_cam = Rcb · X_board + tcb; a ray d = (x, y, 1) meets
   // the board's plane at (bx, by, 0) with (bx, by, 1) ∝ [r1 r2 tcb]⁻¹ d.
   const Eigen::Matrix3d Rcb = camera_.R * pose.R;
@@ -73,36 +73,50 @@ cv::Mat BoardRenderer::render(const BoardPose& pose, const cv::Mat& background) 
   const bool front = (-Rcb.transpose() * tcb).z() < 0;
 
   const cv::Size fine = normalised_.size();
-  cv::Mat map(fine, CV_32FC2);
-  cv::Mat on_board(fine, CV_8U, cv::Scalar(0));
-  const auto& A = to_texture_;
-  for (int y = 0; y < fine.height; ++y)
+  cv::Mat& map = map_;
+  cv::Mat& on_board = on_board_;
+  map.create(fine, CV_32FC2);
+  on_board.create(fine, CV_8U);
+  on_board.setTo(0);
+  // Every sample (1280 × 960 at 4× supersampling) runs this loop: the
+  // matrices are read into scalars once and the rows through pointers, so
+  // that no element access or small product is a call of its own (under
+  // the sanitizers they were most of a calibration test's time). The sums
+  // are Eigen's, in its order: the images are the same bytes as before.
+  const double h00 = Hinv(0, 0), h01 = Hinv(0, 1), h02 = Hinv(0, 2), h10 = Hinv(1, 0), h11 = Hinv(1, 1),
+               h12 = Hinv(1, 2), h20 = Hinv(2, 0), h21 = Hinv(2, 1), h22 = Hinv(2, 2);
+  const double a00 = to_texture_(0, 0), a02 = to_texture_(0, 2), a11 = to_texture_(1, 1), a12 = to_texture_(1, 2);
+  const double u_max = texture_.cols - 0.5, v_max = texture_.rows - 0.5;
+  for (int y = 0; y < fine.height; ++y) {
+    const cv::Vec2f* normalised = normalised_.ptr<cv::Vec2f>(y);
+    cv::Vec2f* mapped = map.ptr<cv::Vec2f>(y);
+    std::uint8_t* inside = on_board.ptr<std::uint8_t>(y);
     for (int x = 0; x < fine.width; ++x) {
-      const cv::Vec2f n = normalised_.at<cv::Vec2f>(y, x);
-      cv::Vec2f& m = map.at<cv::Vec2f>(y, x);
-      m = cv::Vec2f(-1e6f, -1e6f);
-      if (std::isnan(n[0])) continue;
-      const Eigen::Vector3d b = Hinv * Eigen::Vector3d(n[0], n[1], 1.0);
-      if (b.z() <= 0) continue;  // the plane is behind the camera along this ray
-      const double bx = b.x() / b.z(), by = b.y() / b.z();
-      const double u = A(0, 0) * bx + A(0, 2), v = A(1, 1) * by + A(1, 2);
-      if (u < -0.5 || v < -0.5 || u > texture_.cols - 0.5 || v > texture_.rows - 0.5) continue;
-      m = cv::Vec2f(float(u), float(v));
-      on_board.at<std::uint8_t>(y, x) = 255;
+      mapped[x] = cv::Vec2f(-1e6f, -1e6f);
+      const double nx = normalised[x][0], ny = normalised[x][1];
+      if (std::isnan(nx)) continue;
+      const double bz = h20 * nx + h21 * ny + h22;
+      if (bz <= 0) continue;  // the plane is behind the camera along this ray
+      const double bx = (h00 * nx + h01 * ny + h02) / bz, by = (h10 * nx + h11 * ny + h12) / bz;
+      const double u = a00 * bx + a02, v = a11 * by + a12;
+      if (u < -0.5 || v < -0.5 || u > u_max || v > v_max) continue;
+      mapped[x] = cv::Vec2f(float(u), float(v));
+      inside[x] = 255;
     }
-  cv::Mat board;
-  if (front) {
-    cv::remap(texture_, board, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  } else {
-    board = cv::Mat(fine, CV_32F, cv::Scalar(kBack));
   }
-  cv::Mat scene;
-  background.convertTo(scene, CV_32F);
-  cv::resize(scene, scene, fine, 0, 0, cv::INTER_NEAREST);
-  board.copyTo(scene, on_board);
+  if (front) {
+    cv::remap(texture_, board_, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  } else {
+    board_.create(fine, CV_32F);
+    board_.setTo(kBack);
+  }
+  cv::Mat grey;
+  background.convertTo(grey, CV_32F);
+  cv::resize(grey, scene_, fine, 0, 0, cv::INTER_NEAREST);
+  board_.copyTo(scene_, on_board);
   // Average the samples of each pixel (antialiasing), then a slight lens blur.
   cv::Mat image;
-  cv::resize(scene, image, size_, 0, 0, cv::INTER_AREA);
+  cv::resize(scene_, image, size_, 0, 0, cv::INTER_AREA);
   cv::GaussianBlur(image, image, {3, 3}, 0.6);
   cv::Mat out;
   image.convertTo(out, CV_8U);
@@ -163,7 +177,7 @@ BoardFrames render_board_views(const CameraRig& rig, const CalibrationBoard& boa
   const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
   for (int v = 0; v < 2; ++v) {
     const ViewRenderer scene(*cams[v], {kWidth, kHeight}, seed, v);
-    const BoardRenderer renderer(board, *cams[v], {kWidth, kHeight});
+    BoardRenderer renderer(board, *cams[v], {kWidth, kHeight});
     for (std::size_t i = 0; i < poses.size(); ++i) {
       const cv::Mat clean = seen[static_cast<std::size_t>(v)] ? renderer.render(poses[i], scene.background())
                                                               : scene.background();

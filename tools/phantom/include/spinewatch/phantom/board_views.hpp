@@ -33,8 +33,11 @@ class BoardRenderer {
   BoardRenderer(const CalibrationBoard& board, const CameraModel& camera, cv::Size size, int supersample = 4);
 
   // The noise-free image (CV_8U): `background` (CV_8U, `size`) with the
-  // board over it; its back where the camera sees the back.
-  cv::Mat render(const BoardPose& pose, const cv::Mat& background) const;
+  // board over it; its back where the camera sees the back. Not const:
+  // the sample-sized images are kept from one render to the next (a
+  // session renders dozens of poses; allocating 20 MB afresh for each was
+  // a third of a calibration test under the sanitizers, all page faults).
+  cv::Mat render(const BoardPose& pose, const cv::Mat& background);
 
  private:
   CameraModel camera_;
@@ -43,6 +46,9 @@ class BoardRenderer {
   cv::Matx23d to_texture_;
   cv::Mat texture_;     // CV_32F, grey levels of the printed board as the camera sees them
   cv::Mat normalised_;  // CV_32FC2, per sub-pixel sample: undistorted normalised coordinates (NaN: none)
+  // Per sub-pixel sample, reused by render(): texture coordinates, on the
+  // board or not, the board's grey, the scene's.
+  cv::Mat map_, on_board_, board_, scene_;
 };
 
 // A calibration session as an installer records it: the board held at
