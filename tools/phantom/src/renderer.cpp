@@ -140,31 +140,34 @@ cv::Mat ViewRenderer::shadow_factor(const cv::Mat& mask) const {
 }
 
 cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow, bool camouflage) const {
+  Scratch& s = scratch_;
   cv::Mat mask = layer > 0;
-  cv::Mat background;
+  cv::Mat& background = s.background;
   background_.convertTo(background, CV_32F);
   const cv::Mat wall = camouflage ? background.clone() : cv::Mat();
   if (shadow) background = background.mul(shadow_factor(mask));
   // Blur the shades within the person only (normalised by the blurred
   // mask), so the shading is soft but the outline stays where it is.
-  cv::Mat shade, weight;
-  layer.convertTo(shade, CV_32F);
-  mask.convertTo(weight, CV_32F, 1.0 / 255);
-  cv::GaussianBlur(shade, shade, {7, 7}, 1.5);
-  cv::GaussianBlur(weight, weight, {7, 7}, 1.5);
-  cv::Mat person = shade / cv::max(weight, 1e-3) + cloth_texture_;
+  layer.convertTo(s.blurred, CV_32F);
+  cv::GaussianBlur(s.blurred, s.shade, {7, 7}, 1.5);
+  mask.convertTo(s.blurred, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(s.blurred, s.weight, {7, 7}, 1.5);
+  // shade / max(weight, 10⁻³) + cloth texture, one operation at a time.
+  cv::max(s.weight, 1e-3, s.weight);
+  cv::divide(s.shade, s.weight, s.person);
+  cv::add(s.person, cloth_texture_, s.person);
   if (camouflage) {
     // The clothing at the wall's own brightness, with a little cloth
     // texture; the skin keeps its shade.
     const cv::Mat clothing = mask & (layer != kSkinShade) & (layer != kSkinShade + kCoreLift);
     cv::Mat matched = wall + 0.4f * cloth_texture_;
-    matched.copyTo(person, clothing);
+    matched.copyTo(s.person, clothing);
   }
-  person.copyTo(background, mask);
+  s.person.copyTo(background, mask);
   // Real lenses are not perfectly sharp: soften the outline a little.
-  cv::GaussianBlur(background, background, {3, 3}, 0.7);
+  cv::GaussianBlur(background, s.blurred, {3, 3}, 0.7);
   cv::Mat out;
-  background.convertTo(out, CV_8U);
+  s.blurred.convertTo(out, CV_8U);
   return out;
 }
 

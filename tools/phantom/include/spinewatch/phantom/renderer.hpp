@@ -25,6 +25,8 @@ class ViewRenderer {
   // The noise-free scene with the person in it. `camouflage`: the
   // clothing and skin as bright as the wall behind them (only their colour
   // tells them apart).
+  // One renderer composes one frame at a time: it keeps its scene-sized
+  // working images between calls (not thread-safe).
   cv::Mat compose(const cv::Mat& person_layer, bool shadow, bool camouflage = false) const;
 
   // Colour, as chroma offsets from neutral (CV_32FC2: U − 128, V − 128):
@@ -41,6 +43,13 @@ class ViewRenderer {
   cv::Mat background_;     // CV_8U
   cv::Mat background_chroma_;  // CV_32FC2
   cv::Mat cloth_texture_;  // CV_32F, a few grey levels either way
+  // compose()'s float working images, kept from frame to frame: allocated
+  // afresh they cost a page fault per 4 KB on every frame, a fifth of a
+  // long phantom run under the sanitizers (docs/performance.md).
+  struct Scratch {
+    cv::Mat background, shade, weight, blurred, person;
+  };
+  mutable Scratch scratch_;
 };
 
 // Exposure flicker (one gain per frame and view) and Gaussian noise,
