@@ -95,8 +95,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     spdlog::info("phantom: {} frames of '{}' ({} empty) written to {} in {:.2f} s", sequence->frame_count(),
                  sequence->scenario().name, p.empty_frames, opts->out, seconds);
     // A subject without measured landmarks (the named ones) keeps the
-    // anatomy the generic model was built on; replayed with the default (measured) spine placement, their spine
-    // scores about 65 mm off, which says nothing about the fit.
+    // anatomy the generic model was built on: replayed with the default
+    // (measured) spine placement its spine scores about 65 mm off, which
+    // says nothing about the fit.
     if (!p.subject.t1_height_mm && !p.subject.l5_height_mm)
       spdlog::info("phantom: subject '{}' has the phantom's generic anatomy, not a measured person's; to score the fit "
                    "on it, replay with [subject] spine_placement = \"generic\" (docs/anthropometry.md); "

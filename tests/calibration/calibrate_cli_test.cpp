@@ -108,7 +108,8 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   EXPECT_GT(tracked, 50);
   // The issue asks for 1 mm; measured: 5.8 mm apart on average, 18 mm at
   // most, while either replay is about 67–70 mm from the phantom's truth on
-  // this clip (main's estimator gives the same 67 mm with the true rig). The
+  // this clip (its default subject's generic anatomy against the default
+  // measured spine placement, not the fit: docs/calibration.md). The
   // fit turns the recovered cameras' 0.1–0.3 px differences into several mm.
   // It is the fit's own spread, not the calibration's error: the true rig
   // with one principal point moved by 0.01 px replays 1.4–6.4 mm apart, by

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 
+#include "spinewatch/anthropometry/ansur.hpp"
 #include "spinewatch/phantom/scenario.hpp"
 #include "test_support.hpp"
 
@@ -27,6 +29,20 @@ TEST(PhantomCli, WritesARecording) {
   const std::string truth = test::read_file(dir / "rec" / "ground_truth.ndjson");
   EXPECT_EQ(std::count(truth.begin(), truth.end(), '\n'), 22);
   EXPECT_NE(test::read_file(dir / "rec" / "recording.json").find("\"tall\""), std::string::npos);
+  // A named subject keeps the generic anatomy: the tool says how to score it.
+  EXPECT_NE(r.output.find("subject 'tall' has the phantom's generic anatomy"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("spine_placement = \"generic\""), std::string::npos) << r.output;
+}
+
+// A measured adult's spine is placed from the row's own landmarks: no such note.
+TEST(PhantomCli, AMeasuredAdultNeedsNoNoteOnItsAnatomy) {
+  test::TempDir dir;
+  // The child inherits the variable: the data beside the source tree.
+  ::setenv("SPINEWATCH_ANSUR_DIR", test::source_path(std::string(anthropometry::kAnsurRelativeDir)).c_str(), 1);
+  auto r = test::run_cli("phantom --scenario upright --frames 2 --empty-frames 0 --subject ansur:15936 --out " +
+                         (dir / "rec").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("generic anatomy"), std::string::npos) << r.output;
 }
 
 TEST(PhantomCli, UnknownScenarioExitsTwo) {

@@ -26,7 +26,8 @@ class ViewRenderer {
   // clothing and skin as bright as the wall behind them (only their colour
   // tells them apart).
   // One renderer composes one frame at a time: it keeps its scene-sized
-  // working images between calls (not thread-safe).
+  // working images between calls, and a copy shares them (cv::Mat), so
+  // neither a renderer nor its copies may compose on two threads at once.
   cv::Mat compose(const cv::Mat& person_layer, bool shadow, bool camouflage = false) const;
 
   // Colour, as chroma offsets from neutral (CV_32FC2: U − 128, V − 128):
