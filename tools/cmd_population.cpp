@@ -40,6 +40,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     bool known_worker = false;
     bool known_landmarks = false;
     std::string rules = "drawn";
+    int refine_sweeps = 0;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -67,6 +68,10 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                   "(the validation protocol) or at their means (what the estimator assumes)")
       ->check(CLI::IsMember({"drawn", "mean"}))
       ->capture_default_str();
+  cmd->add_option("--refine-sweeps", opts->refine_sweeps,
+                  "The fit's sub-pixel refinement, as config [cvsm] refine_sweeps (0: off)")
+      ->check(CLI::Range(0, 4))
+      ->capture_default_str();
   cmd->callback([opts, &exit_code] {
     // The options first (exit 2), then the data (exit 1).
     population::SweepOptions sweep;
@@ -85,6 +90,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     sweep.known_landmarks = opts->known_landmarks;
     sweep.rules = opts->rules == "mean" ? phantom::RuleDraw::Mean : phantom::RuleDraw::Drawn;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
+    sweep.estimator.refine_sweeps = opts->refine_sweeps;
 
     std::vector<population::Run> runs;
     const std::uint64_t total = subjects.size() * sweep.scenarios.size();
@@ -100,10 +106,13 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     }
     fmt::print("{}\n", population::format_runs(runs));
     fmt::print("{}", population::format_pooled(population::pool(runs),
-                                              fmt::format("{} set, spine placement {}{}{}", opts->set, opts->placement,
+                                              fmt::format("{} set, spine placement {}{}{}{}", opts->set, opts->placement,
                                                           opts->known_landmarks ? ", stature, mass, C7 and iliac crest given"
                                                           : opts->known_worker ? ", stature and mass given" : "",
-                                                          opts->rules == "mean" ? ", rules at their means" : "")));
+                                                          opts->rules == "mean" ? ", rules at their means" : "",
+                                                          opts->refine_sweeps > 0
+                                                              ? fmt::format(", refined ({} sweeps)", opts->refine_sweeps)
+                                                              : "")));
   });
 }
 

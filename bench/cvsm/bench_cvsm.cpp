@@ -100,12 +100,12 @@ std::optional<PhantomPairs> flexion_pairs(benchmark::State& state, bool colour, 
 // background lifecycle: the silhouettes gated by the last fit's outline,
 // the fitted outline rendered and grown, both backgrounds adapted.
 void pair_silhouettes_and_fit(benchmark::State& state, bool lifecycle, bool colour = false,
-                              const char* scenario = "flexion") {
+                              const char* scenario = "flexion", const CvsmOptions& options = {}) {
   auto pairs = flexion_pairs(state, colour, scenario);
   if (!pairs) return;
   const auto& frames = pairs->frames;
   SilhouetteExtractor extractors[2] = {SilhouetteExtractor{SilhouetteOptions{}}, SilhouetteExtractor{SilhouetteOptions{}}};
-  CvsmTracker tracker(pairs->options.rig, CvsmOptions{});
+  CvsmTracker tracker(pairs->options.rig, options);
   BitMask fitted[2], gates[2] = {BitMask(kW, kH), BitMask(kW, kH)};
   bool gated = false;
   auto one_pair = [&](std::size_t i) {
@@ -159,6 +159,14 @@ BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStati
 // tracker also scores the mirrored twist (docs/cvsm.md, "Axial twist").
 void BM_PairSilhouettesAndFitTwist(benchmark::State& state) { pair_silhouettes_and_fit(state, false, false, "twist"); }
 BENCHMARK(BM_PairSilhouettesAndFitTwist)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+// With the sub-pixel refinement on (config [cvsm] refine_sweeps = 1):
+// about 25 more evaluations a pair, each on the fractional cost.
+void BM_PairSilhouettesAndFitRefined(benchmark::State& state) {
+  CvsmOptions options;
+  options.refine_sweeps = 1;
+  pair_silhouettes_and_fit(state, false, false, "flexion", options);
+}
+BENCHMARK(BM_PairSilhouettesAndFitRefined)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {
@@ -302,6 +310,22 @@ void BM_CostSearchCandidate(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(thin, c.points[i++ % c.points.size()]).total());
 }
 BENCHMARK(BM_CostSearchCandidate)->Unit(benchmark::kMicrosecond);
+
+// What one refinement candidate costs: the full outline on every other
+// row (CvsmOptions::refine_row_step), counted in whole pixels (arg 0) and
+// with the outline's pixels covered in fractions (arg 1).
+void BM_CostRefineCandidate(benchmark::State& state) {
+  Candidates c;
+  XorCost cost(c.rig, kW, kH);
+  cost.set_silhouettes(c.sf, c.sl);
+  cost.set_row_step(CvsmOptions{}.refine_row_step);
+  std::size_t i = 0;
+  if (state.range(0) == 0)
+    for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(c.body, c.points[i++ % c.points.size()]).total());
+  else
+    for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate_fractional(c.body, c.points[i++ % c.points.size()]));
+}
+BENCHMARK(BM_CostRefineCandidate)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_CostOpenCvReference(benchmark::State& state) {
   Candidates c;

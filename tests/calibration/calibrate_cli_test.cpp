@@ -70,7 +70,7 @@ TEST_F(CalibrateCli, WritesACalibrationThatPassesCheck) {
 }
 
 // Replay with the recovered calibration: the same postures, within 1 mm,
-// as with the true one.
+// as with the true one (the issue's target; what is met is below).
 TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   ASSERT_EQ(result_->exit_code, 0) << result_->output;
   test::TempDir dir;
@@ -78,46 +78,73 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   auto rendered = test::run_cli("phantom --scenario flexion --frames 60 --empty-frames 10 --calibration " +
                                 (dir / "truth.yaml").string() + " --out " + (dir / "rec").string());
   ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
-  auto truth = test::run_cli("replay --recording " + (dir / "rec").string() + " --out " + (dir / "truth.ndjson").string());
-  ASSERT_EQ(truth.exit_code, 0) << truth.output;
-  auto recovered = test::run_cli("replay --recording " + (dir / "rec").string() + " --calibration " +
-                                 (dir_->path() / "calibration.yaml").string() + " --out " + (dir / "rec.ndjson").string());
-  ASSERT_EQ(recovered.exit_code, 0) << recovered.output;
-  const auto a = read_ndjson(dir / "truth.ndjson"), b = read_ndjson(dir / "rec.ndjson");
-  ASSERT_EQ(a.size(), b.size());
-  double worst = 0, sum = 0;
-  int tracked = 0, n = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    ASSERT_EQ(a[i]["state"], b[i]["state"]) << "pair " << i;
-    if (a[i]["vertebrae"].is_null()) continue;
-    ++tracked;
-    for (std::size_t k = 0; k < 17; ++k) {
-      double d2 = 0;
-      for (std::size_t j = 0; j < 3; ++j) {
-        const double d = a[i]["vertebrae"][k]["body_center"][j].get<double>() -
-                         b[i]["vertebrae"][k]["body_center"][j].get<double>();
-        d2 += d * d;
+  // Replays with the true and the recovered calibration, without and with
+  // the fit's sub-pixel refinement (config [cvsm] refine_sweeps).
+  std::ofstream(dir / "refined.toml") << "[cvsm]\nrefine_sweeps = 1\n";
+  auto replay = [&](const std::string& calibration, const std::string& config, const std::string& out) {
+    const auto r = test::run_cli("replay --recording " + (dir / "rec").string() + calibration + config + " --out " +
+                                 (dir / out).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  };
+  const std::string recovered = " --calibration " + (dir_->path() / "calibration.yaml").string();
+  const std::string refined = " --config " + (dir / "refined.toml").string();
+  replay("", "", "truth.ndjson");
+  replay(recovered, "", "rec.ndjson");
+  replay("", refined, "truth_refined.ndjson");
+  replay(recovered, refined, "rec_refined.ndjson");
+  struct Apart {
+    double mean = 0, worst = 0;
+    int tracked = 0;
+  };
+  auto apart = [&](const char* file_a, const char* file_b) {
+    const auto a = read_ndjson(dir / file_a), b = read_ndjson(dir / file_b);
+    Apart out;
+    EXPECT_EQ(a.size(), b.size());
+    int n = 0;
+    for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+      EXPECT_EQ(a[i]["state"], b[i]["state"]) << "pair " << i;
+      if (a[i]["vertebrae"].is_null() || b[i]["vertebrae"].is_null()) continue;
+      ++out.tracked;
+      for (std::size_t k = 0; k < 17; ++k) {
+        double d2 = 0;
+        for (std::size_t j = 0; j < 3; ++j) {
+          const double d = a[i]["vertebrae"][k]["body_center"][j].get<double>() -
+                           b[i]["vertebrae"][k]["body_center"][j].get<double>();
+          d2 += d * d;
+        }
+        out.worst = std::max(out.worst, std::sqrt(d2));
+        out.mean += std::sqrt(d2);
+        ++n;
       }
-      worst = std::max(worst, std::sqrt(d2));
-      sum += std::sqrt(d2);
-      ++n;
     }
-  }
-  std::printf("%d pairs with a posture; body centres %.2f mm apart on average, %.2f mm at most\n", tracked,
-              n ? sum / n : 0.0, worst);
-  EXPECT_GT(tracked, 50);
-  // The issue asks for 1 mm; measured: 5.8 mm apart on average, 18 mm at
+    out.mean /= std::max(n, 1);
+    std::printf("%s against %s: %d pairs with a posture; body centres %.2f mm apart on average, %.2f mm at most\n",
+                file_b, file_a, out.tracked, out.mean, out.worst);
+    return out;
+  };
+  const Apart plain = apart("truth.ndjson", "rec.ndjson"), fine = apart("truth_refined.ndjson", "rec_refined.ndjson");
+  EXPECT_GT(plain.tracked, 50);
+  EXPECT_GT(fine.tracked, 50);
+  // The issue asks for 1 mm; measured: 6.1 mm apart on average, 17 mm at
   // most, while either replay is about 67–70 mm from the phantom's truth on
   // this clip (its default subject's generic anatomy against the default
   // measured spine placement, not the fit: docs/calibration.md). The
-  // fit turns the recovered cameras' 0.1–0.3 px differences into several mm.
-  // It is the fit's own spread, not the calibration's error: the true rig
-  // with one principal point moved by 0.01 px replays 1.4–6.4 mm apart, by
-  // 0.1 px 4.4–7.1 mm (docs/calibration.md, "Why not 1 mm").
+  // fit turns the recovered cameras' 0.1–0.3 px differences into several mm:
+  // it is the fit's own spread, not the calibration's error (the true rig
+  // with one principal point moved by 0.01 px replays 5–6 mm apart), which
+  // comes from a cost counted in whole pixels (docs/calibration.md, "Where
+  // the spread comes from"). With the sub-pixel refinement: 3.8 mm on
+  // average, 9.7 at most; the recovered calibration's own error moves these
+  // postures by 0.75 mm (its cameras against the true ones, triangulated).
   // Held here: the recovered calibration's postures stay that close, and are
   // no further from the truth than the true calibration's by more than 5 mm.
-  EXPECT_LE(sum / n, 8.0);
-  EXPECT_LE(worst, 25.0);
+  EXPECT_LE(plain.mean, 8.0);
+  EXPECT_LE(plain.worst, 25.0);
+  EXPECT_LE(fine.mean, 5.0);
+  EXPECT_LE(fine.worst, 15.0);
+  // The key reaches replay's estimator: the refined postures are not the
+  // plain ones.
+  EXPECT_GT(apart("truth.ndjson", "truth_refined.ndjson").mean, 0.5);
   auto mean_error = [&](const char* file) {
     auto e = test::run_cli("eval --recording " + (dir / "rec").string() + " --estimate " + (dir / file).string());
     const auto at = e.output.find("vertebrae");

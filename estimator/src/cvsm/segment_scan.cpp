@@ -150,7 +150,7 @@ void ring_support(const PixelQ8* ring, RingSupport& out) {
 // min over the right sides'], with no edges to walk and four rows per
 // instruction. The fixed sides are exact but for the packed index (under
 // 1/256 px), the chords within 1e-4 px.
-SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1) {
+SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1, SpanEnds ends) {
   alignas(16) float key[kDirections];
   unsigned from_a = 0;  // bit k: ring a reaches farther along direction k
   for (int i = 0; i < kDirections; i += 4) {
@@ -220,6 +220,10 @@ SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x
     const i32x4 lo = w - trunc(splat(static_cast<float>(w)) - l);
     std::memcpy(x0 + i, &lo, sizeof lo);
     std::memcpy(x1 + i, &hi, sizeof hi);
+    if (ends.left != nullptr) {
+      store(ends.left + i, l);
+      store(ends.right + i, r);
+    }
   }
   return {first, count};
 }

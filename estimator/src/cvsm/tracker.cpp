@@ -11,6 +11,7 @@
 namespace spinewatch {
 
 using cvsm_detail::coordinate_descent;
+using cvsm_detail::parabolic_sweeps;
 
 namespace {
 
@@ -101,14 +102,15 @@ struct CvsmTracker::Impl {
   static constexpr double kTranslationPxPerMm2 = 0.5;
   static constexpr double kNewHomeMm = 50;
   bool anchored = true;
-  std::int64_t translation_penalty(const PoseParams& a) const {
+  // In the cost's sampled pixels.
+  double translation_penalty(const PoseParams& a) const {
     if (!anchored) return 0;
     const double d2 = (Eigen::Vector3d(a[5], a[6], a[7]) - home).squaredNorm();
-    return static_cast<std::int64_t>(kTranslationPxPerMm2 * d2 / cost->row_step());
+    return kTranslationPxPerMm2 * d2 / cost->row_step();
   }
 
   std::int64_t cost_of(const PoseParams& a, std::int64_t limit) {
-    const std::int64_t penalty = translation_penalty(a);
+    const auto penalty = static_cast<std::int64_t>(translation_penalty(a));
     if (penalty >= limit) return penalty;
     return evaluate(search_model, to_pose(a), limit - penalty).total() + penalty;
   }
@@ -146,6 +148,25 @@ struct CvsmTracker::Impl {
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
     pose = to_pose(d.params);
     return c.evaluations + d.evaluations;
+  }
+
+  // The searches compare candidates on whole pixels, so the pose they
+  // return rests on whichever stair of that cost their path reached; this
+  // settles it between them on the fractional cost (docs/cvsm.md,
+  // "Sub-pixel refinement"). The first steps are about one stair: 2° and
+  // 3–4 mm.
+  int refine(int sweeps) {
+    if (sweeps <= 0) return 0;
+    cost->set_row_step(opt.refine_row_step);
+    auto fractional = [&](const PoseParams& a) {
+      control_points(model, pose_vertebrae(model, spine, to_pose(a)), points);
+      return cost->evaluate_fractional(model, points) + translation_penalty(a);
+    };
+    PoseParams a = to_params(pose);
+    double best = fractional(a);
+    const int evaluations = 1 + parabolic_sweeps(a, best, PoseParams{2, 2, 2, 2, 2, 4, 3, 4}, sweeps, fractional);
+    pose = to_pose(a);
+    return evaluations;
   }
 
   // Whole-range search over trunk flexion and lateral bending, then a wide
@@ -284,6 +305,7 @@ struct CvsmTracker::Impl {
       candidates = local_search(opt.local_budget);
     }
     const TwistCheck twist = check_twist_sign(candidates);
+    candidates += refine(opt.refine_sweeps);
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.

@@ -159,6 +159,8 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
     cache.segment_rows.assign(segments, {});
     cache.x0.assign(segments * span_stride(), 0);
     cache.x1.assign(segments * span_stride(), 0);
+    cache.left.assign(segments * span_stride(), 0);
+    cache.right.assign(segments * span_stride(), 0);
   }
   const SpanImage image{width_, height_, row_step_};
   std::size_t s = 0;
@@ -174,7 +176,8 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
         cache.segment_planes[s] = key;
         cache.segment_rows[s] = scan_segment({&cache.support[ua], proj.data() + ua * kControlPoints},
                                              {&cache.support[ub], proj.data() + ub * kControlPoints}, image,
-                                             cache.x0.data() + s * span_stride(), cache.x1.data() + s * span_stride());
+                                             cache.x0.data() + s * span_stride(), cache.x1.data() + s * span_stride(),
+                                             {cache.left.data() + s * span_stride(), cache.right.data() + s * span_stride()});
       }
       const SegmentRows rows = cache.segment_rows[s];
       if (rows.count == 0) continue;  // (its first row may lie far outside the image)
@@ -193,6 +196,17 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
 }
 
 XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
+  return count(model, points, limit, nullptr);
+}
+
+double XorCost::evaluate_fractional(const BodyModel& model, const std::vector<Eigen::Vector3d>& points) {
+  double fractions = 0;
+  const XorCounts whole = count(model, points, INT64_MAX, &fractions);
+  return static_cast<double>(whole.total()) + fractions;  // (pruned only with a point behind a camera)
+}
+
+XorCounts XorCost::count(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit,
+                         double* fractions) {
   XorCounts counts;
   for (int v = 0; v < 2; ++v) counts.silhouette_px[static_cast<std::size_t>(v)] = row_prefix_[static_cast<std::size_t>(v)].back();
   std::int64_t done = 0;  // exact counts of finished views
@@ -220,6 +234,15 @@ XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vec
     }
     counts.xor_px[static_cast<std::size_t>(v)] = x;
     done += x;
+    if (fractions != nullptr) {
+      const ViewCache& cache = cache_[static_cast<std::size_t>(v)];
+      edges_.reset(height_, static_cast<int>(cache.segment_rows.size()));
+      for (std::size_t s = 0; s < cache.segment_rows.size(); ++s) {
+        const SegmentRows rows = cache.segment_rows[s];
+        edges_.add(rows.first, rows.count, row_step_, cache.left.data() + s * span_stride(), cache.right.data() + s * span_stride());
+      }
+      *fractions += edges_.correction(rows_.data(), words_, sil);
+    }
   }
   return counts;
 }

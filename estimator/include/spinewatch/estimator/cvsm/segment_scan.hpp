@@ -39,7 +39,14 @@ struct Ring {
 // Spans of the solid between rings a and b on its sampled rows: x0[i] and
 // x1[i], the first and last pixel of row first + i·row_step, within
 // 0…width − 1 (x0 > x1: the row misses the image). Written four rows at
-// a time: x0 and x1 must hold height + 3 entries.
-SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1);
+// a time: x0 and x1 must hold height + 3 entries. With `ends`, also the
+// span's continuous ends, of which x0 and x1 are the pixel centres inside:
+// ends[0][i] ≤ x ≤ ends[1][i] (clamped to −1 … width; the same size).
+struct SpanEnds {
+  float* left;
+  float* right;
+};
+SegmentRows scan_segment(Ring a, Ring b, const SpanImage& image, std::int32_t* x0, std::int32_t* x1,
+                         SpanEnds ends = {nullptr, nullptr});
 
 }  // namespace spinewatch

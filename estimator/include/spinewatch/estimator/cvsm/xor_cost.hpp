@@ -24,6 +24,7 @@
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/cvsm/edge_fractions.hpp"
 #include "spinewatch/estimator/cvsm/fixed_camera.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/frames/view.hpp"
@@ -74,6 +75,11 @@ class XorCost {
   // the total exceeds `limit`.
   XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
                      std::int64_t limit = INT64_MAX);
+  // The same comparison with the model covering the pixels its row spans
+  // end in by the fraction it covers, instead of by their centres
+  // (cvsm/edge_fractions.hpp): continuous as the outline moves along the
+  // rows. In sampled pixels, as evaluate() counts them; not pruned.
+  double evaluate_fractional(const BodyModel& model, const std::vector<Eigen::Vector3d>& points);
   // The model's mask in one view (tests, diagnostics, the subject model).
   BitMask render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, View view);
   // Projected control points of the last render/evaluate, per view (Q8).
@@ -89,11 +95,15 @@ class XorCost {
     std::vector<std::array<std::uint32_t, 4>> segment_planes;  // per segment: planes a, b and their versions
     std::vector<SegmentRows> segment_rows;  // per segment: its first sampled row and how many
     std::vector<std::int32_t> x0, x1;  // per segment span_stride() spans (first, last pixel)
+    std::vector<float> left, right;     // the same spans' continuous ends (scan_segment's SpanEnds)
   };
   // Projects and fills the model's rows of view `view` into rows_; returns
   // false when a point is behind the camera.
   bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
   bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
+  // evaluate(), and with `fractions` also evaluate_fractional()'s change to
+  // the count, added to it view by view.
+  XorCounts count(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit, double* fractions);
   std::size_t span_stride() const { return static_cast<std::size_t>(height_) + 3; }  // written four rows at a time
 
   std::array<FixedCamera, 2> cameras_;
@@ -106,6 +116,7 @@ class XorCost {
   std::array<std::vector<std::int64_t>, 2> row_prefix_;  // sampled silhouette pixels in rows < y
   std::array<std::vector<PixelQ8>, 2> projected_;
   std::array<ViewCache, 2> cache_;
+  cvsm_detail::EdgeFractions edges_;
   std::vector<std::uint64_t> rows_;  // model rows, height × words
   int y_lo_ = 0, y_hi_ = -1;          // rows touched
 };
