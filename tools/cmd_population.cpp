@@ -111,7 +111,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                                                           : opts->known_worker ? ", stature and mass given" : "",
                                                           opts->rules == "mean" ? ", rules at their means" : "",
                                                           opts->refine_sweeps > 0
-                                                              ? fmt::format(", refined ({} sweeps)", opts->refine_sweeps)
+                                                              ? fmt::format(", refine_sweeps {}", opts->refine_sweeps)
                                                               : "")));
   });
 }
