@@ -297,7 +297,8 @@ struct CvsmTracker::Impl {
     // Whether the search started from a predicted motion (it keeps its
     // result even when lost; otherwise the last good pose is kept).
     const bool predicted = phase == Phase::Predicting;
-    if (phase == Phase::Searching) {
+    const bool searched_globally = phase == Phase::Searching;
+    if (searched_globally) {
       anchored = false;
       candidates = global_search(opt.global_budget);
       anchored = true;
@@ -305,7 +306,11 @@ struct CvsmTracker::Impl {
       candidates = local_search(opt.local_budget);
     }
     const TwistCheck twist = check_twist_sign(candidates);
+    // Refined as it was searched: after a global search, unanchored (the
+    // subject may have stepped; the anchor follows below).
+    anchored = !searched_globally;
     candidates += refine(opt.refine_sweeps);
+    anchored = true;
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.

@@ -40,8 +40,10 @@ struct Ring {
 // x1[i], the first and last pixel of row first + i·row_step, within
 // 0…width − 1 (x0 > x1: the row misses the image). Written four rows at
 // a time: x0 and x1 must hold height + 3 entries. With `ends`, also the
-// span's continuous ends, of which x0 and x1 are the pixel centres inside:
-// ends[0][i] ≤ x ≤ ends[1][i] (clamped to −1 … width; the same size).
+// spans' continuous ends, of which x0 and x1 are the first and last pixel
+// centre inside: ends.left[i] ≤ x ≤ ends.right[i], the image's edges
+// folded in (a span reaching past one ends at its last pixel's centre);
+// the same size.
 struct SpanEnds {
   float* left;
   float* right;
