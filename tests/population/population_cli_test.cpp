@@ -30,6 +30,7 @@ TEST(PopulationCli, BadInputIsOneClearMessage) {
       {"--set both", 2, "--set: both not in {test,train}"},
       {"--rules both", 2, "--rules: both not in {drawn,mean}"},
       {"--men -1", 2, "--men: Value -1 not in range 0 to 1000"},
+      {"--refine-sweeps 5", 2, "--refine-sweeps: Value 5 not in range 0 to 4"},
       {"--ansur /nonexistent", 1, "/nonexistent/ANSUR_II_MALE_Public.csv: cannot open"},
       {"--men 0 --women 0", 1, "population: no subject matches the selection"},
       {"--men 1 --women 0 --scenarios dance", 1, "unknown scenario \"dance\""},
@@ -48,6 +49,12 @@ TEST(PopulationCli, OneSubjectKnownOrNotPrintsItsTables) {
   EXPECT_NE(r.output.find("test set, spine placement measured, stature and mass given, rules at their means: 1 runs"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("| L5 |"), std::string::npos) << "the per-level bias table\n" << r.output;
+}
+
+TEST(PopulationCli, TheRefinementIsNamedInThePooledTitle) {
+  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --refine-sweeps 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("test set, spine placement measured, refine_sweeps 1: 1 runs"), std::string::npos) << r.output;
 }
 
 }  // namespace
