@@ -223,5 +223,42 @@ TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
   EXPECT_GT(refined.candidates, plain.candidates + 8);
 }
 
+// The refinement moves a pose by at most a few steps and only to a lower
+// cost; whether a pair is lost is still decided on the whole-pixel cost of
+// the full model afterwards. Silhouettes no body fits (a block) stay lost
+// with it on, and a half-hidden person does not pull the fit far.
+TEST(CvsmRefinement, SilhouettesNoBodyFitsStayLost) {
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel subject = other_subject();
+  const Views upright = render(rig, subject, CvsmPose{});
+  BitMask block(kW, kH);
+  for (int y = 30; y < kH; ++y)
+    for (int x = 130; x < 190; ++x) block.set(x, y, true);
+  for (int sweeps : {0, 1}) {
+    CvsmOptions options;
+    options.spine_placement = SpinePlacementMode::Generic;
+    options.refine_sweeps = sweeps;
+    CvsmTracker tracker(rig, options);
+    CvsmResult good;
+    for (int i = 0; i < 12; ++i) good = tracker.track(upright.frontal, upright.lateral);
+    ASSERT_EQ(good.state, TrackingState::Tracking) << sweeps;
+    for (int i = 0; i < 3; ++i) {
+      const CvsmResult r = tracker.track(block, block);
+      EXPECT_EQ(r.state, TrackingState::Lost) << "sweeps " << sweeps << ", pair " << i << ": cost " << r.fit.cost;
+    }
+    // Back to the person, then half of them hidden in the frontal view.
+    for (int i = 0; i < 3; ++i) good = tracker.track(upright.frontal, upright.lateral);
+    ASSERT_EQ(good.state, TrackingState::Tracking) << sweeps;
+    BitMask half = upright.frontal;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < 160; ++x) half.set(x, y, false);
+    const CvsmResult r = tracker.track(half, upright.lateral);
+    if (r.state != TrackingState::Lost) {
+      EXPECT_LT((r.waist - good.waist).norm(), 60.0) << sweeps;
+      EXPECT_LT((r.neck - good.neck).norm(), 60.0) << sweeps;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace spinewatch
