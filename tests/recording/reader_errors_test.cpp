@@ -113,6 +113,12 @@ TEST_F(RecordingReaderErrors, OutOfRange) {
 TEST_F(RecordingReaderErrors, UnknownPixelFormatListsSupportedOnes) {
   make(R"({"pixel_format": "MJPG", "width": 4, "height": 4, "fps": 30})");
   EXPECT_EQ(open_error(), json_path() + ": \"pixel_format\": unknown pixel format \"MJPG\" (supported: YUYV, GREY)");
+  // A line end in the value (JSON's "\n") stays escaped: one line (fuzz
+  // finding 14, tests/fuzz/corpus/recording_json/regression-format-line-end.json).
+  make(R"({"pixel_format": "YUY\nheight", "width": 4, "height": 4, "fps": 30})");
+  EXPECT_EQ(open_error(), json_path() + ": \"pixel_format\": unknown pixel format \"YUY\\nheight\" (supported: YUYV, GREY)");
+  make(R"({"pixel_format": "YUYV", "width": 4, "height": 4, "fps": 30, "streams": {"top\tview": {}}})");
+  EXPECT_EQ(open_error(), json_path() + ": \"streams\": unknown stream \"top\\tview\" (expected frontal, lateral)");
 }
 
 TEST_F(RecordingReaderErrors, StreamsWhoseFormatsDiffer) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "spinewatch/capture/json_text.hpp"
+#include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch::recording_detail {
@@ -43,7 +44,7 @@ class JsonChecker {
       return error(fmt::format("\"{}\" must be a string, got {}", field, describe(value)));
     const auto name = value.get<std::string>();
     if (auto format = parse_pixel_format(name)) return *format;
-    return error(fmt::format("\"{}\": unknown pixel format \"{}\" (supported: YUYV, GREY)", field, name));
+    return error(fmt::format("\"{}\": unknown pixel format \"{}\" (supported: YUYV, GREY)", field, printable(name)));
   }
 
  private:
@@ -97,7 +98,7 @@ Result<FrameFormat> resolve_format(const JsonChecker& check, const FormatFields&
 Result<View> view_named(const JsonChecker& check, const std::string& name, const std::string& where) {
   if (name == "frontal") return View::Frontal;
   if (name == "lateral") return View::Lateral;
-  return check.error(fmt::format("\"{}\": unknown stream \"{}\" (expected frontal, lateral)", where, name));
+  return check.error(fmt::format("\"{}\": unknown stream \"{}\" (expected frontal, lateral)", where, printable(name)));
 }
 
 Result<FrameFormat> read_format(const JsonChecker& check, const json& doc) {
