@@ -40,7 +40,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     bool known_worker = false;
     bool known_landmarks = false;
     std::string rules = "drawn";
-    int refine_sweeps = 0;
+    int refine_steps = EstimatorOptions{}.refine_steps;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -68,8 +68,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                   "(the validation protocol) or at their means (what the estimator assumes)")
       ->check(CLI::IsMember({"drawn", "mean"}))
       ->capture_default_str();
-  cmd->add_option("--refine-sweeps", opts->refine_sweeps,
-                  "The fit's sub-pixel refinement, as config [cvsm] refine_sweeps (0: off)")
+  cmd->add_option("--refine-steps", opts->refine_steps,
+                  "The fit's outline refinement, as config [cvsm] refine_steps (0: off)")
       ->check(CLI::Range(0, 4))
       ->capture_default_str();
   cmd->callback([opts, &exit_code] {
@@ -90,7 +90,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     sweep.known_landmarks = opts->known_landmarks;
     sweep.rules = opts->rules == "mean" ? phantom::RuleDraw::Mean : phantom::RuleDraw::Drawn;
     if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
-    sweep.estimator.refine_sweeps = opts->refine_sweeps;
+    sweep.estimator.refine_steps = opts->refine_steps;
 
     std::vector<population::Run> runs;
     const std::uint64_t total = subjects.size() * sweep.scenarios.size();
@@ -110,8 +110,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                                                           opts->known_landmarks ? ", stature, mass, C7 and iliac crest given"
                                                           : opts->known_worker ? ", stature and mass given" : "",
                                                           opts->rules == "mean" ? ", rules at their means" : "",
-                                                          opts->refine_sweeps > 0
-                                                              ? fmt::format(", refine_sweeps {}", opts->refine_sweeps)
+                                                          opts->refine_steps > 0
+                                                              ? fmt::format(", refine_steps {}", opts->refine_steps)
                                                               : "")));
   });
 }

@@ -159,14 +159,14 @@ BENCHMARK(BM_PairSilhouettesAndFit)->Unit(benchmark::kMicrosecond)->ComputeStati
 // tracker also scores the mirrored twist (docs/cvsm.md, "Axial twist").
 void BM_PairSilhouettesAndFitTwist(benchmark::State& state) { pair_silhouettes_and_fit(state, false, false, "twist"); }
 BENCHMARK(BM_PairSilhouettesAndFitTwist)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
-// With the sub-pixel refinement on (config [cvsm] refine_sweeps = 1):
-// about 25 more evaluations a pair, each on the fractional cost.
-void BM_PairSilhouettesAndFitRefined(benchmark::State& state) {
+// The same with the outline refinement on (config [cvsm] refine_steps = 1
+// and 2; off by default).
+void BM_PairSilhouettesAndFitRefineSteps(benchmark::State& state) {
   CvsmOptions options;
-  options.refine_sweeps = 1;
+  options.refine_steps = static_cast<int>(state.range(0));
   pair_silhouettes_and_fit(state, false, false, "flexion", options);
 }
-BENCHMARK(BM_PairSilhouettesAndFitRefined)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+BENCHMARK(BM_PairSilhouettesAndFitRefineSteps)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {
@@ -311,21 +311,25 @@ void BM_CostSearchCandidate(benchmark::State& state) {
 }
 BENCHMARK(BM_CostSearchCandidate)->Unit(benchmark::kMicrosecond);
 
-// What one refinement candidate costs: the full outline on every other
-// row (CvsmOptions::refine_row_step), counted in whole pixels (arg 0) and
-// with the outline's pixels covered in fractions (arg 1).
-void BM_CostRefineCandidate(benchmark::State& state) {
+// What the outline refinement's passes cost on the full model, every other
+// row (CvsmOptions::refine_row_step), against a whole-pixel evaluation of
+// the same (arg 0): the outline's ends of both views (arg 1, a trial
+// step's pass) and a scan conversion only (arg 2, a derivative's pass).
+void BM_CostRefinePass(benchmark::State& state) {
   Candidates c;
   XorCost cost(c.rig, kW, kH);
   cost.set_silhouettes(c.sf, c.sl);
   cost.set_row_step(CvsmOptions{}.refine_row_step);
+  std::vector<cvsm_detail::OutlineEnd> ends;
   std::size_t i = 0;
   if (state.range(0) == 0)
     for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(c.body, c.points[i++ % c.points.size()]).total());
+  else if (state.range(0) == 1)
+    for (auto _ : state) benchmark::DoNotOptimize(cost.outline(c.body, c.points[i++ % c.points.size()], ends));
   else
-    for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate_fractional(c.body, c.points[i++ % c.points.size()]));
+    for (auto _ : state) benchmark::DoNotOptimize(cost.scan(c.body, c.points[i++ % c.points.size()]));
 }
-BENCHMARK(BM_CostRefineCandidate)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CostRefinePass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_CostOpenCvReference(benchmark::State& state) {
   Candidates c;

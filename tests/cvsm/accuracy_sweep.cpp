@@ -7,7 +7,7 @@
 // judged here, on the whole set. Not run by ctest (≈ 40 s for the
 // defaults on one core of the development machine):
 //
-//   build/release/tests/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-sweeps 1]
+//   build/release/tests/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 1]
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -24,12 +24,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenarios{"upright", "flexion", "lateral_left", "lateral_right", "twist",
                                      "combined", "seated_flexion", "sway", "fast"};
   int local_budget = CvsmOptions{}.local_budget;
-  int refine_sweeps = CvsmOptions{}.refine_sweeps;
+  int refine_steps = CvsmOptions{}.refine_steps;
   app.add_option("--seeds", seeds, "first and last seed")->delimiter('-');
   app.add_option("--subjects", subjects, "config/subjects/<name>.json")->delimiter(',');
   app.add_option("--scenarios", scenarios, "phantom scenarios")->delimiter(',');
   app.add_option("--local-budget", local_budget, "CvsmOptions::local_budget");
-  app.add_option("--refine-sweeps", refine_sweeps, "CvsmOptions::refine_sweeps (config [cvsm] refine_sweeps)");
+  app.add_option("--refine-steps", refine_steps, "CvsmOptions::refine_steps (config [cvsm] refine_steps)");
   CLI11_PARSE(app, argc, argv);
   if (seeds.first > seeds.second) {
     std::fprintf(stderr, "--seeds %u-%u: the first seed is after the last\n", seeds.first, seeds.second);
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
 
   CvsmOptions options = test::generic_subject_options();  // the named phantom subjects (phantom_run.hpp)
   options.local_budget = local_budget;
-  options.refine_sweeps = refine_sweeps;
+  options.refine_steps = refine_steps;
   int runs = 0, neck_over = 0, waist_over = 0;
   double worst = 0, neck_sum = 0, waist_sum = 0;
   for (unsigned seed = seeds.first; seed <= seeds.second; ++seed)

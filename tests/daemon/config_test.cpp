@@ -199,17 +199,17 @@ TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
   EXPECT_EQ(bad.error().message, "s.toml:2: subject.spine_placement: \"ansur\" is not one of: measured, generic");
 }
 
-// cvsm.refine_sweeps reaches the estimator, off by default (its effect on
+// cvsm.refine_steps reaches the estimator, off by default (its effect on
 // the postures: tests/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
 // through replay --config: tests/calibration, CalibrateCli.ReplayWith…).
-TEST(Config, RefineSweepsReachTheEstimatorOffByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).refine_sweeps, 0);
-  auto on = parse_config("[cvsm]\nrefine_sweeps = 2\n", "s.toml");
+TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).refine_steps, 0);
+  auto on = parse_config("[cvsm]\nrefine_steps = 2\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
-  EXPECT_EQ(estimator_options(*on).refine_sweeps, 2);
-  auto bad = parse_config("[cvsm]\nrefine_sweeps = 9\n", "s.toml");
+  EXPECT_EQ(estimator_options(*on).refine_steps, 2);
+  auto bad = parse_config("[cvsm]\nrefine_steps = 9\n", "s.toml");
   ASSERT_FALSE(bad);
-  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_sweeps: 9 is out of range [0, 4]");
+  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_steps: 9 is out of range [0, 4]");
 }
 
 TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {

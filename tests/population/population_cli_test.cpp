@@ -30,7 +30,7 @@ TEST(PopulationCli, BadInputIsOneClearMessage) {
       {"--set both", 2, "--set: both not in {test,train}"},
       {"--rules both", 2, "--rules: both not in {drawn,mean}"},
       {"--men -1", 2, "--men: Value -1 not in range 0 to 1000"},
-      {"--refine-sweeps 5", 2, "--refine-sweeps: Value 5 not in range 0 to 4"},
+      {"--refine-steps 5", 2, "--refine-steps: Value 5 not in range 0 to 4"},
       {"--ansur /nonexistent", 1, "/nonexistent/ANSUR_II_MALE_Public.csv: cannot open"},
       {"--men 0 --women 0", 1, "population: no subject matches the selection"},
       {"--men 1 --women 0 --scenarios dance", 1, "unknown scenario \"dance\""},
@@ -52,9 +52,9 @@ TEST(PopulationCli, OneSubjectKnownOrNotPrintsItsTables) {
 }
 
 TEST(PopulationCli, TheRefinementIsNamedInThePooledTitle) {
-  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --refine-sweeps 1");
+  const auto r = test::run_cli(population_command() + "--men 1 --women 0 --scenarios flexion --frames 20 --refine-steps 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("test set, spine placement measured, refine_sweeps 1: 1 runs"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("test set, spine placement measured, refine_steps 1: 1 runs"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -161,7 +161,7 @@ const std::vector<Key>& keys() {
       string_key("cvsm.model", [](Config& c) -> std::string& { return c.cvsm.model; }),
       int_key("cvsm.subject_frames", [](Config& c) -> int& { return c.cvsm.subject_frames; }, {0, 1000}),
       double_key("cvsm.lost_cost", [](Config& c) -> double& { return c.cvsm.lost_cost; }, {0.01, 2.0}),
-      int_key("cvsm.refine_sweeps", [](Config& c) -> int& { return c.cvsm.refine_sweeps; }, {0, 4}),
+      int_key("cvsm.refine_steps", [](Config& c) -> int& { return c.cvsm.refine_steps; }, {0, 4}),
 
       string_key("spine.model", [](Config& c) -> std::string& { return c.spine.model; }),
       double_key("spine.voxel_mm", [](Config& c) -> double& { return c.spine.voxel_mm; }, {0.25, 5.0}),

@@ -2,8 +2,7 @@
 // Coarse-to-fine coordinate descent: each parameter in turn tries ±step and
 // keeps going while that improves; steps halve after each sweep. The cost
 // callback gets the best cost so far as its limit, so a candidate can be
-// abandoned as soon as it cannot win. Then, on a continuous cost, sweeps
-// of parabolic steps that settle between the descent's steps.
+// abandoned as soon as it cannot win.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -49,41 +48,6 @@ Descent<N, Cost> coordinate_descent(std::array<double, N> params, std::int64_t b
     for (auto& s : step) s *= 0.5;
   }
   return d;
-}
-
-// Sweeps of parabolic steps on a cost that changes continuously: each
-// parameter in turn is tried at ± its step and moved to the best of those
-// two, where it was, and the vertex of the parabola through the three (when
-// it opens upwards; clamped to the step, and evaluated). Steps halve after
-// each sweep. Returns the evaluations spent.
-template <std::size_t N, class Cost>
-int parabolic_sweeps(std::array<double, N>& params, double& best, std::array<double, N> step, int sweeps, Cost&& cost) {
-  int evaluations = 0;
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    for (std::size_t i = 0; i < N; ++i) {
-      if (step[i] == 0) continue;
-      const std::array<double, N> start = params;
-      const double here = best;
-      std::array<double, N> trial = start;
-      trial[i] = start[i] + step[i];
-      const double plus = cost(trial);
-      if (plus < best) best = plus, params = trial;
-      trial[i] = start[i] - step[i];
-      const double minus = cost(trial);
-      if (minus < best) best = minus, params = trial;
-      evaluations += 2;
-      const double curvature = plus + minus - 2 * here;
-      if (curvature <= 0) continue;
-      const double t = std::clamp(0.5 * (minus - plus) / curvature, -1.0, 1.0);
-      if (t == 1.0 || t == -1.0 || t == 0.0) continue;  // already tried
-      trial[i] = start[i] + t * step[i];
-      const double vertex = cost(trial);
-      ++evaluations;
-      if (vertex < best) best = vertex, params = trial;
-    }
-    for (auto& s : step) s *= 0.5;
-  }
-  return evaluations;
 }
 
 }  // namespace spinewatch::cvsm_detail

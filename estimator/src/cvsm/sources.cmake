@@ -3,7 +3,9 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/body_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/fixed_camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/xor_cost.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/edge_fractions.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/outline_ends.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/silhouette_edges.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/outline_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/segment_scan.cpp
   ${CMAKE_CURRENT_LIST_DIR}/subject_estimate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/template_fit.cpp

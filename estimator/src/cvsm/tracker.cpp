@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coordinate_search.hpp"
+#include "outline_fit.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 #include "subject_estimate.hpp"
@@ -11,7 +12,6 @@
 namespace spinewatch {
 
 using cvsm_detail::coordinate_descent;
-using cvsm_detail::parabolic_sweeps;
 
 namespace {
 
@@ -152,21 +152,32 @@ struct CvsmTracker::Impl {
 
   // The searches compare candidates on whole pixels, so the pose they
   // return rests on whichever stair of that cost their path reached; this
-  // settles it between them on the fractional cost (docs/cvsm.md,
-  // "Sub-pixel refinement"). The first steps are about one stair: 2° and
-  // 3–4 mm.
-  int refine(int sweeps) {
-    if (sweeps <= 0) return 0;
+  // settles it between them on the outline (outline_fit.hpp). Derivatives
+  // over a quarter of a search step; a step moves a parameter at most one
+  // search step (2°; 5 / 3 / 5 mm).
+  std::array<cvsm_detail::SilhouetteEdges, 2> edges;
+  int refine(const BitMask& frontal, const BitMask& lateral, int steps) {
+    if (steps <= 0) return 0;
     cost->set_row_step(opt.refine_row_step);
-    auto fractional = [&](const PoseParams& a) {
-      control_points(model, pose_vertebrae(model, spine, to_pose(a)), points);
-      return cost->evaluate_fractional(model, points) + translation_penalty(a);
-    };
+    edges[0].assign(frontal);
+    edges[1].assign(lateral);
+    cvsm_detail::OutlineFitSettings settings;
+    settings.probe = {0.5, 0.5, 0.5, 0.5, 0.5, 1, 1, 1};
+    settings.max_step = {2, 2, 2, 2, 2, 5, 3, 5};
+    settings.shifts_along = {-1, -1, -1, -1, -1, 0, 1, 2};  // the translation (pose_vertebrae)
+    cvsm_detail::OutlineFit fit(*cost, model, {&edges[0], &edges[1]}, cost_width, settings);
+    cvsm_detail::ParamPrior prior;
+    if (anchored)
+      for (std::size_t k = 5; k < 8; ++k) {
+        prior.weight[k] = kTranslationPxPerMm2 / cost->row_step();  // translation_penalty's
+        prior.centre[k] = home[static_cast<Eigen::Index>(k - 5)];
+      }
     PoseParams a = to_params(pose);
-    double best = fractional(a);
-    const int evaluations = 1 + parabolic_sweeps(a, best, PoseParams{2, 2, 2, 2, 2, 4, 3, 4}, sweeps, fractional);
+    const int scans = fit.refine(a, steps, [&](const PoseParams& p, std::vector<Eigen::Vector3d>& out) {
+      control_points(model, pose_vertebrae(model, spine, to_pose(p)), out);
+    }, prior);
     pose = to_pose(a);
-    return evaluations;
+    return scans;
   }
 
   // Whole-range search over trunk flexion and lateral bending, then a wide
@@ -309,7 +320,7 @@ struct CvsmTracker::Impl {
     // Refined as it was searched: after a global search, unanchored (the
     // subject may have stepped; the anchor follows below).
     anchored = !searched_globally;
-    candidates += refine(opt.refine_sweeps);
+    candidates += refine(frontal, lateral, opt.refine_steps);
     anchored = true;
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;

@@ -109,7 +109,7 @@ bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out
   return (in_front[0] & in_front[1] & in_front[2] & in_front[3]) != 0;
 }
 
-bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view) {
+bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view, bool fill) {
   if (y_lo_ <= y_hi_)
     std::fill(rows_.begin() + static_cast<std::ptrdiff_t>(y_lo_) * words_,
               rows_.begin() + static_cast<std::ptrdiff_t>(y_hi_ + 1) * words_, 0);
@@ -180,7 +180,7 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
                                              {cache.left.data() + s * span_stride(), cache.right.data() + s * span_stride()});
       }
       const SegmentRows rows = cache.segment_rows[s];
-      if (rows.count == 0) continue;  // (its first row may lie far outside the image)
+      if (rows.count == 0 || !fill) continue;  // (its first row may lie far outside the image)
       const std::int32_t* x0 = cache.x0.data() + s * span_stride();
       const std::int32_t* x1 = cache.x1.data() + s * span_stride();
       std::uint64_t* row = rows_.data() + static_cast<std::ptrdiff_t>(rows.first) * words_;
@@ -196,17 +196,6 @@ bool XorCost::rasterize(const BodyModel& model, const std::vector<Eigen::Vector3
 }
 
 XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
-  return count(model, points, limit, nullptr);
-}
-
-double XorCost::evaluate_fractional(const BodyModel& model, const std::vector<Eigen::Vector3d>& points) {
-  double fractions = 0;
-  const XorCounts whole = count(model, points, INT64_MAX, &fractions);
-  return static_cast<double>(whole.total()) + fractions;  // (pruned only with a point behind a camera)
-}
-
-XorCounts XorCost::count(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit,
-                         double* fractions) {
   XorCounts counts;
   for (int v = 0; v < 2; ++v) counts.silhouette_px[static_cast<std::size_t>(v)] = row_prefix_[static_cast<std::size_t>(v)].back();
   std::int64_t done = 0;  // exact counts of finished views
@@ -234,17 +223,51 @@ XorCounts XorCost::count(const BodyModel& model, const std::vector<Eigen::Vector
     }
     counts.xor_px[static_cast<std::size_t>(v)] = x;
     done += x;
-    if (fractions != nullptr) {
-      const ViewCache& cache = cache_[static_cast<std::size_t>(v)];
-      edges_.reset(height_, static_cast<int>(cache.segment_rows.size()));
-      for (std::size_t s = 0; s < cache.segment_rows.size(); ++s) {
-        const SegmentRows rows = cache.segment_rows[s];
-        edges_.add(rows.first, rows.count, row_step_, cache.left.data() + s * span_stride(), cache.right.data() + s * span_stride());
-      }
-      *fractions += edges_.correction(rows_.data(), words_, sil);
-    }
   }
   return counts;
+}
+
+bool XorCost::scan(const BodyModel& model, const std::vector<Eigen::Vector3d>& points) {
+  return rasterize(model, points, 0, false) && rasterize(model, points, 1, false);
+}
+
+bool XorCost::outline(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
+                      std::vector<cvsm_detail::OutlineEnd>& out) {
+  out.clear();
+  for (int v = 0; v < 2; ++v) {
+    if (!rasterize(model, points, v, false)) {
+      out.clear();
+      return false;
+    }
+    const ViewCache& cache = cache_[static_cast<std::size_t>(v)];
+    outline_.reset(height_, static_cast<int>(cache.segment_rows.size()));
+    for (std::size_t s = 0; s < cache.segment_rows.size(); ++s) {
+      const SegmentRows rows = cache.segment_rows[s];
+      outline_.add(static_cast<int>(s), rows.first, rows.count, row_step_, cache.left.data() + s * span_stride(),
+                   cache.right.data() + s * span_stride());
+    }
+    outline_.collect(v, out);
+  }
+  return true;
+}
+
+bool XorCost::span_end(const cvsm_detail::OutlineEnd& end, float& x) const {
+  const ViewCache& cache = cache_[end.view];
+  const auto segment = static_cast<std::size_t>(end.segment);
+  if (segment >= cache.segment_rows.size()) return false;
+  const SegmentRows rows = cache.segment_rows[segment];
+  if (end.row < rows.first) return false;
+  const int i = (end.row - rows.first) / row_step_;
+  if (i >= rows.count || rows.first + i * row_step_ != end.row) return false;
+  const std::size_t k = segment * span_stride() + static_cast<std::size_t>(i);
+  if (cache.right[k] < cache.left[k]) return false;
+  x = end.right ? cache.right[k] : cache.left[k];
+  return true;
+}
+
+void XorCost::span_ends(const std::vector<cvsm_detail::OutlineEnd>& ends, float* x) const {
+  for (std::size_t i = 0; i < ends.size(); ++i)
+    if (!span_end(ends[i], x[i])) x[i] = std::numeric_limits<float>::quiet_NaN();
 }
 
 BitMask XorCost::render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, View view) {

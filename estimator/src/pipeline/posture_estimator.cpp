@@ -45,7 +45,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   CvsmOptions c;
   c.subject_frames = o.subject_frames;
   c.lost_cost = o.lost_cost;
-  c.refine_sweeps = o.refine_sweeps;
+  c.refine_steps = o.refine_steps;
   c.height_mm = o.height_mm;
   c.min_silhouette_px = o.min_blob_px;
   c.spine_placement = o.spine_placement;

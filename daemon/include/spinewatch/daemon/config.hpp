@@ -85,7 +85,7 @@ struct Config {
     std::string model = "";  // "" = the generic model built in (config/cvsm-generic.toml)
     int subject_frames = 10;   // upright frames used to build the subject's model
     double lost_cost = 0.35;   // cost above which tracking is lost
-    int refine_sweeps = 0;     // sub-pixel refinement of each fit: sweeps, 0 = off
+    int refine_steps = 0;     // outline refinement of each fit: Gauss–Newton steps, 0 = off
     bool operator==(const Cvsm&) const = default;
   } cvsm;
 

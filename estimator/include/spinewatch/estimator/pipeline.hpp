@@ -52,7 +52,7 @@ struct EstimatorOptions {
   // CVSM (config [cvsm]).
   int subject_frames = 10;
   double lost_cost = 0.35;
-  int refine_sweeps = 0;  // CvsmOptions::refine_sweeps
+  int refine_steps = 0;  // CvsmOptions::refine_steps
   // Models (config [cvsm] model, [spine] model): nothing = the generic
   // ones built in. The caller reads and parses the files (no I/O here).
   std::optional<CvsmSpec> cvsm_model;

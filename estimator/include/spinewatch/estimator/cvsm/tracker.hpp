@@ -49,12 +49,11 @@ struct CvsmOptions {
   // L5 always): the trunk is smooth, so the chords lose well under a pixel
   // and a candidate costs half. The reported fit uses every ring and row.
   int search_vertebra_step = 4;
-  // Then, with refine_sweeps > 0 (config [cvsm] refine_sweeps), the pose
-  // found is refined on the cost with the outline's pixels covered in
-  // fractions (XorCost::evaluate_fractional), full model, every n-th row:
-  // that many sweeps of parabolic steps over the search's parameters
-  // (docs/cvsm.md, "Sub-pixel refinement").
-  int refine_sweeps = 0;
+  // Then, with refine_steps > 0 (config [cvsm] refine_steps), the pose
+  // found is refined on the outline: that many Gauss–Newton steps pulling
+  // the full model's outline ends on every n-th row to the silhouettes'
+  // edges (docs/cvsm.md, "Outline refinement").
+  int refine_steps = 0;
   int refine_row_step = 2;
 };
 

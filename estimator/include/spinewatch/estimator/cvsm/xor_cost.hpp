@@ -24,7 +24,7 @@
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
-#include "spinewatch/estimator/cvsm/edge_fractions.hpp"
+#include "spinewatch/estimator/cvsm/outline_ends.hpp"
 #include "spinewatch/estimator/cvsm/fixed_camera.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/frames/view.hpp"
@@ -75,11 +75,19 @@ class XorCost {
   // the total exceeds `limit`.
   XorCounts evaluate(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
                      std::int64_t limit = INT64_MAX);
-  // The same comparison with the model covering the pixels its row spans
-  // end in by the fraction it covers, instead of by their centres
-  // (cvsm/edge_fractions.hpp): continuous as the outline moves along the
-  // rows. In sampled pixels, as evaluate() counts them; not pruned.
-  double evaluate_fractional(const BodyModel& model, const std::vector<Eigen::Vector3d>& points);
+  // The outline refinement's view of the model (cvsm/outline_fit.hpp).
+  // outline(): both views scan-converted for these points, and the ends of
+  // the model's runs on each sampled row appended to `out` (cleared first).
+  // scan(): only scan-converted, after which span_end() reads where the
+  // span that bounded an end of an earlier outline() ends now: false when
+  // its segment no longer spans that row. Both false (and outline() empty)
+  // when a point is behind a camera.
+  bool outline(const BodyModel& model, const std::vector<Eigen::Vector3d>& points,
+               std::vector<cvsm_detail::OutlineEnd>& out);
+  bool scan(const BodyModel& model, const std::vector<Eigen::Vector3d>& points);
+  bool span_end(const cvsm_detail::OutlineEnd& end, float& x) const;
+  // span_end() for each of `ends`, NaN where it is false.
+  void span_ends(const std::vector<cvsm_detail::OutlineEnd>& ends, float* x) const;
   // The model's mask in one view (tests, diagnostics, the subject model).
   BitMask render(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, View view);
   // Projected control points of the last render/evaluate, per view (Q8).
@@ -97,13 +105,11 @@ class XorCost {
     std::vector<std::int32_t> x0, x1;  // per segment span_stride() spans (first, last pixel)
     std::vector<float> left, right;     // the same spans' continuous ends (scan_segment's SpanEnds)
   };
-  // Projects and fills the model's rows of view `view` into rows_; returns
-  // false when a point is behind the camera.
-  bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view);
+  // Projects and scan-converts view `view` into the cache's spans and, with
+  // `fill`, the model's rows into rows_ (the outline refinement reads only
+  // the spans); returns false when a point is behind the camera.
+  bool rasterize(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, int view, bool fill = true);
   bool project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out) const;
-  // evaluate(), and with `fractions` also evaluate_fractional()'s change to
-  // the count, added to it view by view.
-  XorCounts count(const BodyModel& model, const std::vector<Eigen::Vector3d>& points, std::int64_t limit, double* fractions);
   std::size_t span_stride() const { return static_cast<std::size_t>(height_) + 3; }  // written four rows at a time
 
   std::array<FixedCamera, 2> cameras_;
@@ -116,7 +122,7 @@ class XorCost {
   std::array<std::vector<std::int64_t>, 2> row_prefix_;  // sampled silhouette pixels in rows < y
   std::array<std::vector<PixelQ8>, 2> projected_;
   std::array<ViewCache, 2> cache_;
-  cvsm_detail::EdgeFractions edges_;
+  cvsm_detail::OutlineEnds outline_;
   std::vector<std::uint64_t> rows_;  // model rows, height × words
   int y_lo_ = 0, y_hi_ = -1;          // rows touched
 };
