@@ -3,6 +3,10 @@
 // printing each camera's errors against the truth and its principal point
 // and focal length errors. Usage: calibration_sweep SEEDS [NOISE [VIEWS_PER_CAMERA]].
 // calibration_sweep --perturb DIR: the default rig and perturbed copies.
+// calibration_sweep --recover DIR SEED VIEWS_PER_CAMERA: the default rig as
+// calibrate_station recovers it from a session rendered with that seed
+// (noise 2.0, as CalibrateCli's), into DIR/recovered_SEED_VIEWS.yaml: the
+// replay comparison of docs/calibration.md with more or fewer poses.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -62,8 +66,37 @@ int perturb(const std::filesystem::path& dir) {
   return 0;
 }
 
+int recover(const std::filesystem::path& dir, std::uint32_t seed, int views_per_camera) {
+  const CameraRig rig = CameraRig::default_rig();
+  const CalibrationBoard board = CalibrationBoard::create({}).value();
+  phantom::BoardSessionOptions o;
+  o.views_per_camera = views_per_camera;
+  o.seed = seed;
+  const auto plan = phantom::plan_board_session(rig, board, o);
+  const auto views = phantom::render_board_views(rig, board, plan.views, {true, true}, seed, 2.0);
+  const auto placed = phantom::render_board_views(rig, board, std::vector<phantom::BoardPose>(4, plan.placement),
+                                                  {true, true}, seed, 2.0, 1000);
+  std::array<CameraFrames, 2> frames;
+  for (int v = 0; v < 2; ++v) {
+    frames[v].views = views.grey[v];
+    frames[v].placement = placed.grey[v];
+  }
+  const auto r = calibrate_station(board, frames, {320, 240}, {Placement::Upright, 1100}, {});
+  std::filesystem::create_directories(dir);
+  const auto file = dir / fmt::format("recovered_{}_{}.yaml", seed, views_per_camera);
+  if (!save_calibration(file, r.rig)) {
+    std::printf("cannot write %s\n", file.c_str());
+    return 1;
+  }
+  for (int i = 0; i < 2; ++i)
+    std::printf("%s: rms %.3f px\n", i ? "lateral" : "frontal", r.report.cameras[static_cast<std::size_t>(i)].rms_px);
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc > 2 && std::string(argv[1]) == "--perturb") return perturb(argv[2]);
+  if (argc > 4 && std::string(argv[1]) == "--recover")
+    return recover(argv[2], static_cast<std::uint32_t>(std::stoul(argv[3])), std::atoi(argv[4]));
   const CameraRig rig = test::station_rig();
   const CalibrationBoard board = CalibrationBoard::create({}).value();
   const double noise = argc > 2 ? atof(argv[2]) : 2.0;
