@@ -12,6 +12,7 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "cvsm_reference.hpp"
+#include "spinewatch/estimator/cvsm/silhouette_edges.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
@@ -330,6 +331,25 @@ void BM_CostRefinePass(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(cost.scan(c.body, c.points[i++ % c.points.size()]));
 }
 BENCHMARK(BM_CostRefinePass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// The outline refinement's edge lookup: the nearest silhouette edge of a
+// kind to a point of a row, as the refinement asks it once per outline end
+// (about a thousand a pass), on the phantom's frontal silhouette.
+void BM_SilhouetteEdgeNearest(benchmark::State& state) {
+  Candidates c;
+  cvsm_detail::SilhouetteEdges edges;
+  edges.assign(c.sf);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> x(0.0f, kW - 1.0f);
+  std::vector<std::pair<int, float>> queries(1024);
+  for (auto& q : queries) q = {static_cast<int>(rng() % kH), x(rng)};
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto& q = queries[i++ & 1023];
+    benchmark::DoNotOptimize(edges.nearest(q.first, q.second, (i & 1) != 0, 6));
+  }
+}
+BENCHMARK(BM_SilhouetteEdgeNearest);
 
 void BM_CostOpenCvReference(benchmark::State& state) {
   Candidates c;

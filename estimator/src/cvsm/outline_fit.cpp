@@ -100,12 +100,12 @@ int OutlineFit::refine(Params& a, int steps, const PointsOf& points_of, const Pa
       h(i, i) = h(i, i) * 1.01 + 1e-9;
     }
     const Vector8 delta = -h.ldlt().solve(g);
+    if (!delta.allFinite()) return scans;
     double scale = 1;
     for (std::size_t k = 0; k < 8; ++k) {
       const double size = std::abs(delta(static_cast<Eigen::Index>(k)));
       if (size > settings_.max_step[k]) scale = std::min(scale, settings_.max_step[k] / size);
     }
-    if (!delta.allFinite()) return scans;
     bool moved = false;
     for (int halving = 0; halving < 3 && !moved; ++halving, scale *= 0.5) {
       Params trial = a;
