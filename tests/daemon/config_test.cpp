@@ -210,6 +210,10 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   auto bad = parse_config("[cvsm]\nrefine_steps = 9\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_steps: 9 is out of range [0, 4]");
+  // Session 13's name for it says what it is now.
+  auto renamed = parse_config("[cvsm]\nrefine_sweeps = 1\n", "s.toml");
+  ASSERT_FALSE(renamed);
+  EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");
 }
 
 TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {

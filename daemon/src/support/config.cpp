@@ -291,6 +291,11 @@ std::vector<std::string> config_keys() {
   return names;
 }
 
+// Keys renamed since they were released, with their new names.
+constexpr std::pair<std::string_view, std::string_view> kRenamedKeys[] = {
+    {"cvsm.refine_sweeps", "cvsm.refine_steps"},  // session 14: Gauss–Newton steps replaced the sweeps
+};
+
 Result<Config> parse_config(std::string_view text, std::string_view source) {
   toml::table root;
   try {
@@ -312,7 +317,12 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
     for (const auto& [key, value] : *section.as_table()) {
       const std::string name = section_name + "." + printable(key.str());
       const Key* k = find_key(name);
-      if (!k) return Error{fmt::format("{}: {}: unknown key", at(source, value), name)};
+      if (!k) {
+        // A key a release renamed: the message says what to write instead.
+        for (const auto& [was, now] : kRenamedKeys)
+          if (name == was) return Error{fmt::format("{}: {}: unknown key; it is now {}", at(source, value), name, now)};
+        return Error{fmt::format("{}: {}: unknown key", at(source, value), name)};
+      }
       if (auto problem = k->set(config, value))
         return Error{fmt::format("{}: {}: {}", at(source, value), name, *problem)};
     }
