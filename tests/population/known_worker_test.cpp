@@ -133,11 +133,12 @@ TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
   ASSERT_TRUE(w.worker->rejected_stature_mm);
   EXPECT_EQ(*w.worker->rejected_stature_mm, row.stature_mm - 250);
   EXPECT_NEAR(w.worker->stature_mm, row.stature_mm, 15.0);
-  // Placed for the body in view: about as good as with nothing given (the
-  // posture choice started from the given height, so not identical; since
-  // the spine's depth follows the fitted waist depth (config/spine-depth.toml)
-  // the two fits part a little more: 12.2 against 9.5 mm, session 10).
-  EXPECT_LE(mean_error(wrong), mean_error(unknown) + 3.5);
+  // Placed for the body in view: since session 14 the subject model starts
+  // over as if nothing were given once the stature is set aside, so the fit
+  // is the one with nothing given (measured: 9.53 mm both; before, it kept
+  // what had been placed and fitted for the given stature: 12.2 against
+  // 9.5 mm).
+  EXPECT_NEAR(mean_error(wrong), mean_error(unknown), 0.5);
   const Posture& s = last_tracking(shod);
   EXPECT_EQ(s.worker->stature_source, BodyValueSource::Given);
   EXPECT_FALSE(s.worker->rejected_stature_mm);

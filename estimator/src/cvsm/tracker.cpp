@@ -265,6 +265,14 @@ struct CvsmTracker::Impl {
     return r;
   }
 
+  // The subject model from the first clean pair: measured, then standing or
+  // seated chosen. Returns the cost evaluations spent.
+  int start_subject(const BitMask& frontal, const BitMask& lateral, const CvsmOptions& options) {
+    subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
+    subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
+    return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+  }
+
   CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag) {
     if (frontal.empty() || lateral.empty() || frontal.width() != lateral.width() || frontal.height() != lateral.height())
       return no_person("no_person");
@@ -281,10 +289,20 @@ struct CvsmTracker::Impl {
       if (!flag.empty()) return no_person(flag);
       int candidates = 0;
       if (!subject) {
-        subject = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
-        subject->measured_spine = opt.spine_placement == SpinePlacementMode::Measured;
-        candidates += cvsm_detail::choose_posture(*subject, *cost, spec, spine, opt);
-        cvsm_detail::check_given_stature(*subject);
+        candidates += start_subject(frontal, lateral, opt);
+        if (cvsm_detail::check_given_stature(*subject)) {
+          // Someone else's stature: the model so far was placed and shaped
+          // for it (fitted 12.2 mm off where nothing given gave 9.5), so it
+          // starts over as if nothing were given.
+          const std::optional<double> rejected = subject->rejected_stature_mm;
+          CvsmOptions unknown = opt;
+          unknown.stature_mm.reset();
+          unknown.c7_height_mm.reset();
+          unknown.iliac_crest_height_mm.reset();
+          unknown.mass_kg.reset();
+          candidates += start_subject(frontal, lateral, unknown);
+          subject->rejected_stature_mm = rejected;
+        }
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
