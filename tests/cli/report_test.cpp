@@ -223,7 +223,7 @@ TEST(Report, HtmlAndCsvFromSummariesCheckedInHeadlessChromium) {
 TEST(Report, TheDemosReportRendersInHeadlessChromium) {
   test::TempDir dir;
   const auto work = dir / "demo";
-  auto r = test::run_command("cd '" + test::source_path("").string() + "' && scripts/demo-report " + SPINEWATCH_CLI +
+  auto r = test::run_command("cd '" + test::source_path("").string() + "' && scripts/demo-report " + test::cli_path() +
                              " '" + work.string() + "' 2>&1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::vector<nlohmann::json> intervals, tracked;  // every interval; those with postures tracked

@@ -55,7 +55,7 @@ inline CvsmOptions generic_subject_options() {
 // The phantom's sensor noise is drawn from `seed` (the test uses 3).
 inline Result<PhantomRunStats> run_phantom(const std::string& scenario, const std::string& subject_name, unsigned seed,
                                            const CvsmOptions& options = generic_subject_options()) {
-  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/" + subject_name + ".json");
+  auto subject = phantom::load_subject(test::source_dir() + "/config/subjects/" + subject_name + ".json");
   if (!subject.ok()) return subject.error();
   phantom::PhantomOptions po;
   po.scenario = scenario;

@@ -50,7 +50,7 @@ inline int scene_frames(std::string_view scenario) { return scenario == "fast" ?
 
 inline Result<phantom::PhantomSequence> scene_sequence(const std::string& scenario, const std::string& subject_name,
                                                        unsigned seed, const SceneCondition& c) {
-  auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/" + subject_name + ".json");
+  auto subject = phantom::load_subject(test::source_dir() + "/config/subjects/" + subject_name + ".json");
   if (!subject.ok()) return subject.error();
   phantom::PhantomOptions po;
   po.scenario = scenario;

@@ -55,7 +55,7 @@ class DaemonBackground : public ::testing::Test {
   // The posture lines a client reads from a daemon on this config.
   std::vector<nlohmann::json> postures(const std::filesystem::path& config, int count, std::string* log = nullptr) {
     const auto sock = dir / "p.sock";
-    DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+    DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                          dir / "daemon.log");
     std::optional<LineClient> client;
     for (int i = 0; i < 750 && !client && daemon.running(); ++i) {
@@ -141,12 +141,12 @@ TEST_F(DaemonBackground, WithoutOneItSaysNoBackgroundThenBootstrapsAndTracks) {
 TEST_F(DaemonBackground, ImageModeWithoutImagesIsRefusedAtStart) {
   const auto rec = subject_in_view(5);
   const auto config = write_config(rec, "background = \"image\"");
-  auto r = test::run_command(std::string(SPINEWATCHD) + " --config '" + config.string() + "' --listen none --unix '" + (dir / "s.sock").string() + "'");
+  auto r = test::run_command(test::daemon_path() + " --config '" + config.string() + "' --listen none --unix '" + (dir / "s.sock").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("silhouette.background = \"image\" needs silhouette.background_frontal"), std::string::npos)
       << r.output;
   const auto bad = write_config(rec, "background_frontal = \"/nonexistent/f.png\"\nbackground_lateral = \"/nonexistent/l.png\"");
-  r = test::run_command(std::string(SPINEWATCHD) + " --config '" + bad.string() + "' --listen none --unix '" + (dir / "s.sock").string() + "'");
+  r = test::run_command(test::daemon_path() + " --config '" + bad.string() + "' --listen none --unix '" + (dir / "s.sock").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("/nonexistent/f.png: no such file"), std::string::npos) << r.output;
 }

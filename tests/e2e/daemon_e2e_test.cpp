@@ -42,7 +42,7 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
   const auto port = test::free_port();
   const auto sock = dir / "p.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "127.0.0.1:" + std::to_string(port),
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "127.0.0.1:" + std::to_string(port),
                         "--unix", sock.string()},
                        dir / "daemon.log");
   ASSERT_GT(daemon.pid(), 0);
@@ -133,20 +133,20 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
 
 TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
   test::write_file(dir / "bad.toml", "[cameras]\nfps = 500\n");
-  auto r = test::run_command(std::string(SPINEWATCHD) + " --config '" + (dir / "bad.toml").string() + "' --unix none");
+  auto r = test::run_command(test::daemon_path() + " --config '" + (dir / "bad.toml").string() + "' --unix none");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("bad.toml:2: cameras.fps: 500 is out of range [1, 120]"), std::string::npos) << r.output;
-  auto missing = test::run_command(std::string(SPINEWATCHD) + " --config '" + (dir / "missing.toml").string() + "'");
+  auto missing = test::run_command(test::daemon_path() + " --config '" + (dir / "missing.toml").string() + "'");
   EXPECT_EQ(missing.exit_code, 1) << missing.output;
   EXPECT_NE(missing.output.find("missing.toml: cannot open: No such file or directory"), std::string::npos) << missing.output;
   auto bad_rec = write_config("source = \"recording\"\nrecording = \"" + (dir / "nowhere").string() + "\"\n");
-  auto r2 = test::run_command(std::string(SPINEWATCHD) + " --config '" + bad_rec.string() + "' --listen none --unix '" +
+  auto r2 = test::run_command(test::daemon_path() + " --config '" + bad_rec.string() + "' --listen none --unix '" +
                               (dir / "s.sock").string() + "'");
   EXPECT_EQ(r2.exit_code, 1) << r2.output;
   EXPECT_NE(r2.output.find("nowhere"), std::string::npos) << r2.output;
-  auto usage = test::run_command(std::string(SPINEWATCHD) + " --bogus");
+  auto usage = test::run_command(test::daemon_path() + " --bogus");
   EXPECT_EQ(usage.exit_code, 2) << usage.output;
-  auto bad_listen = test::run_command(std::string(SPINEWATCHD) + " --config '" + bad_rec.string() + "' --listen nonsense");
+  auto bad_listen = test::run_command(test::daemon_path() + " --config '" + bad_rec.string() + "' --listen nonsense");
   EXPECT_EQ(bad_listen.exit_code, 1) << bad_listen.output;
 }
 
@@ -157,7 +157,7 @@ TEST_F(DaemonE2E, BadConfigIsOneMessageAndExitOne) {
 TEST_F(DaemonE2E, SigtermWhileStartingIsACleanStop) {
   const auto config = write_config("source = \"recording\"\nrecording = \"\"\n");  // the embedded default
   for (int signo : {SIGTERM, SIGINT}) {
-    DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+    DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                          dir / "start.log");
     ASSERT_GT(daemon.pid(), 0);
     // "starting" is logged before the source, models and sockets are set up.
@@ -180,7 +180,7 @@ TEST_F(DaemonE2E, ANetworkListenerWithoutAuthenticationIsRefusedUnlessAllowed) {
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
   const auto port = test::free_port();
   const std::string listen = "0.0.0.0:" + std::to_string(port);
-  auto refused = test::run_command(std::string(SPINEWATCHD) + " --config '" + config.string() + "' --unix none --listen " + listen);
+  auto refused = test::run_command(test::daemon_path() + " --config '" + config.string() + "' --unix none --listen " + listen);
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   EXPECT_NE(refused.output.find("--listen " + listen + ": not a loopback address"), std::string::npos) << refused.output;
   EXPECT_NE(refused.output.find("allow_unauthenticated = true"), std::string::npos) << refused.output;
@@ -188,7 +188,7 @@ TEST_F(DaemonE2E, ANetworkListenerWithoutAuthenticationIsRefusedUnlessAllowed) {
   std::string text = test::read_file(config);
   text.replace(text.find("[publish]\n"), 10, "[publish]\nallow_unauthenticated = true\n");
   test::write_file(config, text);
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", listen, "--unix", "none"}, dir / "daemon.log");
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", listen, "--unix", "none"}, dir / "daemon.log");
   auto client = test::when_up([&] { return LineClient::tcp(port); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
   const auto line = client->read_line();
@@ -207,7 +207,7 @@ TEST_F(DaemonE2E, WatchPrintsPosturesFromTheDaemon) {
   const auto rec = make_recording(10);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\n");
   const auto sock = dir / "p.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   ASSERT_TRUE(test::when_up([&] { return LineClient::unix_socket(sock); }, daemon)) << daemon.log();
   auto json = test::run_cli("watch --unix '" + sock.string() + "' --json --count 5");
@@ -268,7 +268,7 @@ TEST_F(DaemonE2E, AKnownWorkerFromConfigCommandAndReloadReachesTheStream) {
   const std::string cameras = "source = \"recording\"\nrecording = \"" + rec.string() + "\"\n";
   const auto config = write_config(cameras + "[subject]\nmass_kg = 70\n");
   const auto sock = dir / "p.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   auto client = test::when_up([&] { return LineClient::unix_socket(sock); }, daemon);
   ASSERT_TRUE(client) << daemon.log();
@@ -336,7 +336,7 @@ TEST_F(DaemonE2E, NotifiesReadyStatusWatchdogAndStopping) {
   ASSERT_EQ(::bind(notify, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
   ::setenv("NOTIFY_SOCKET", notify_path.c_str(), 1);
   ::setenv("WATCHDOG_USEC", "200000", 1);
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                        dir / "daemon.log");
   ::unsetenv("NOTIFY_SOCKET");
   ::unsetenv("WATCHDOG_USEC");
@@ -379,7 +379,7 @@ TEST_F(DaemonE2E, AMissingTriggerControllerIsLoggedAndTheDaemonRunsOn) {
   const auto rec = make_recording(10);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() +
                                    "\"\n[trigger]\ncontroller = \"/nonexistent/ttyUSB9\"\n");
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                        dir / "daemon.log");
   ASSERT_TRUE(test::eventually([&] { return daemon.log().find("ready") != std::string::npos; }, 10s)) << daemon.log();
   std::this_thread::sleep_for(1500ms);  // status ticks: no second message while it keeps failing
@@ -407,7 +407,7 @@ TEST_F(DaemonE2E, MemoryStaysFlatOverTenThousandPairs) {
   const auto rec = make_recording(1, 40);
   const auto config = write_config("source = \"recording\"\nrecording = \"" + rec.string() + "\"\nreplay = \"fast\"\n");
   const auto sock = dir / "p.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   auto client = test::when_up([&] { return LineClient::unix_socket(sock); }, daemon);
   ASSERT_TRUE(client) << daemon.log();

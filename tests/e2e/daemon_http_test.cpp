@@ -284,7 +284,7 @@ TEST_F(DaemonHttp, OffByDefaultAndANetworkAddressRefusedUnlessAllowed) {
   const auto config = dir / "c.toml";
   test::write_file(config, "[cameras]\nsource = \"recording\"\nrecording = \"\"\nfrontal = \"/nonexistent/v0\"\n"
                            "lateral = \"/nonexistent/v2\"\n");
-  const std::string base = std::string(SPINEWATCHD) + " --config '" + config.string() + "' --listen none --unix '" +
+  const std::string base = test::daemon_path() + " --config '" + config.string() + "' --listen none --unix '" +
                            (dir / "p.sock").string() + "'";
   const std::string address = "0.0.0.0:" + std::to_string(test::free_port());
   auto refused = test::run_command(base + " --http " + address);
@@ -295,7 +295,7 @@ TEST_F(DaemonHttp, OffByDefaultAndANetworkAddressRefusedUnlessAllowed) {
   EXPECT_NE(bad.output.find("--http \"nonsense\": expected HOST:PORT"), std::string::npos) << bad.output;
 
   test::write_file(config, test::read_file(config) + "[http]\nallow_unauthenticated = true\nlisten = \"" + address + "\"\n");
-  test::DaemonProcess allowed({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  test::DaemonProcess allowed({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                               dir / "allowed.log");
   EXPECT_TRUE(test::eventually([&] { return allowed.log().find("live view on http://0.0.0.0:") != std::string::npos; },
                                test::scaled(10s)))
@@ -311,7 +311,7 @@ TEST_F(DaemonHttp, OffByDefaultAndANetworkAddressRefusedUnlessAllowed) {
 
   // Without --http and without the key: no live view.
   test::write_file(config, "[cameras]\nsource = \"recording\"\nrecording = \"\"\n");
-  test::DaemonProcess plain({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  test::DaemonProcess plain({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                             dir / "plain.log");
   EXPECT_TRUE(test::eventually([&] { return plain.log().find("ready") != std::string::npos; }, test::scaled(10s)))
       << plain.log();

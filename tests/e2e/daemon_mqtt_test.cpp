@@ -67,7 +67,7 @@ class DaemonMqtt : public ::testing::Test {
   }
   std::unique_ptr<DaemonProcess> daemon(const std::string& station, const std::filesystem::path& config,
                                         std::vector<std::string> more = {}) {
-    std::vector<std::string> args{SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix",
+    std::vector<std::string> args{test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix",
                                   (dir_ / (station + ".sock")).string()};
     args.insert(args.end(), more.begin(), more.end());
     return std::make_unique<DaemonProcess>(args, dir_ / (station + ".log"));

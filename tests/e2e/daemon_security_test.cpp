@@ -102,7 +102,7 @@ TEST_F(DaemonSecurity, TcpStreamOverTlsNeedsAValidTokenAndPlainTextIsCutWithoutA
   const auto port = test::free_port(), http_port = test::free_port();
   // Not loopback, without allow_unauthenticated: TLS and tokens make it safe.
   const std::string listen = "0.0.0.0:" + std::to_string(port);
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", listen, "--unix", "none", "--http",
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", listen, "--unix", "none", "--http",
                         "127.0.0.1:" + std::to_string(http_port)},
                        dir / "daemon.log");
   auto good = test::when_up([&] { return std::make_shared<TlsClient>(port, pki / "ca.crt"); }, daemon);
@@ -203,7 +203,7 @@ TEST_F(DaemonSecurity, TcpStreamWithClientCertificatesTakesTheCasClientsOnly) {
                                                    quoted(pki / "station.key") + "\ntls_client_ca = " +
                                                    quoted(pki / "ca.crt") + "\n");
   const auto port = test::free_port();
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "0.0.0.0:" + std::to_string(port),
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "0.0.0.0:" + std::to_string(port),
                         "--unix", "none"},
                        dir / "daemon.log");
   auto client = test::when_up(
@@ -239,7 +239,7 @@ TEST_F(DaemonSecurity, HttpOverTlsNeedsTheCasCertificateAndABearerToken) {
                                                        quoted(pki / "ca.crt") + "\ntoken_file = " + quoted(pki / "tokens") +
                                                        "\ntimeout_s = 2.0\n");
   const auto port = test::free_port();
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix",
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix",
                         (dir / "posture.sock").string(), "--http", "0.0.0.0:" + std::to_string(port)},
                        dir / "daemon.log");
   auto up = test::when_up([&] {
@@ -283,7 +283,7 @@ TEST_F(DaemonSecurity, SecretsOthersCanReadAndUnprotectedNetworkBindsAreRefusedA
   auto start = [&](const std::string& publish, const std::string& http, const std::string& args) {
     const auto config = write_config(dir.path(), publish, http);
     // `timeout`: a daemon that wrongly starts fails the test instead of hanging it.
-    return test::run_command("timeout 30 " + std::string(SPINEWATCHD) + " --config '" + config.string() + "' --unix none " + args + " 2>&1");
+    return test::run_command("timeout 30 " + test::daemon_path() + " --config '" + config.string() + "' --unix none " + args + " 2>&1");
   };
   ::chmod((pki / "tokens").c_str(), 0644);
   auto r = start(tls + "token_file = " + quoted(pki / "tokens") + "\n", "", "--listen 127.0.0.1:0");
@@ -329,7 +329,7 @@ WorkerRun name_worker(const test::TempDir& dir, const std::string& id, const std
   test::write_file(config, test::read_file(config) + "[exposure]\ninterval_s = 1\n[storage]\npath = " +
                                quoted(dir / "store.sqlite") + "\n[privacy]\n" + privacy);
   const auto sock = dir / "posture.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   WorkerRun run;
   auto client = test::when_up([&] { return test::LineClient::unix_socket(sock); }, daemon);
@@ -401,7 +401,7 @@ TEST_F(DaemonSecurity, WorkerIdsAreStoredPublishedAndLoggedOnlyAsAPseudonymStabl
   ::chmod(secret.c_str(), 0644);
   const auto config = write_config(dir.path(), "", "");
   test::write_file(config, test::read_file(config) + "[privacy]\n" + privacy);
-  const auto r = test::run_command("timeout 30 " + std::string(SPINEWATCHD) + " --config '" + config.string() +
+  const auto r = test::run_command("timeout 30 " + test::daemon_path() + " --config '" + config.string() +
                                    "' --listen none --unix '" + (dir / "p.sock").string() + "' 2>&1");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("privacy.secret_file " + secret.string() + ": mode 0644"), std::string::npos) << r.output;

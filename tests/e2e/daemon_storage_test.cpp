@@ -69,7 +69,7 @@ class DaemonStorage : public ::testing::Test {
 };
 
 TEST_F(DaemonStorage, SigkillWhileWritingLosesAtMostTheLastSecondAndTheFileOpensCleanly) {
-  DaemonProcess daemon({SPINEWATCHD, "--config", config("posture_every = 1\n").string(), "--listen", "none", "--unix",
+  DaemonProcess daemon({test::daemon_path(), "--config", config("posture_every = 1\n").string(), "--listen", "none", "--unix",
                         (dir / "p.sock").string()},
                        dir / "daemon.log");
   auto client = connect(daemon);
@@ -128,7 +128,7 @@ TEST_F(DaemonStorage, SigkillWhileWritingLosesAtMostTheLastSecondAndTheFileOpens
 
 TEST_F(DaemonStorage, PosturesAreDecimatedAndAFullDatabaseNeverStopsTheStream) {
   {
-    DaemonProcess daemon({SPINEWATCHD, "--config", config("posture_every = 3\n").string(), "--listen", "none",
+    DaemonProcess daemon({test::daemon_path(), "--config", config("posture_every = 3\n").string(), "--listen", "none",
                           "--unix", (dir / "p.sock").string()},
                          dir / "daemon.log");
     auto client = connect(daemon);
@@ -145,7 +145,7 @@ TEST_F(DaemonStorage, PosturesAreDecimatedAndAFullDatabaseNeverStopsTheStream) {
     EXPECT_EQ(q.column("SELECT message FROM events").back().rfind("stopped: ", 0), 0u);
   }
   // The database may not grow: it is full at once. The stream goes on.
-  DaemonProcess daemon({SPINEWATCHD, "--config", config("max_size_mb = 0.01\n").string(), "--listen", "none", "--unix",
+  DaemonProcess daemon({test::daemon_path(), "--config", config("max_size_mb = 0.01\n").string(), "--listen", "none", "--unix",
                         (dir / "p.sock").string()},
                        dir / "daemon2.log");
   auto client = connect(daemon);
@@ -172,7 +172,7 @@ TEST_F(DaemonStorage, ConfiguredAlertsReachTheStreamAndTheDatabase) {
                           "min_interval_s = 0.5\n");
   const auto cfg = config("");
   test::write_file(cfg, test::read_file(cfg) + "[alerts]\nrules = \"" + rules.string() + "\"\n");
-  DaemonProcess daemon({SPINEWATCHD, "--config", cfg.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", cfg.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                        dir / "daemon.log");
   auto client = connect(daemon);
   ASSERT_TRUE(client) << daemon.log();
@@ -215,7 +215,7 @@ TEST_F(DaemonStorage, SilentAlertsAreRecordedAnUnopenableLineIsSaidAndSighupUnsi
   const std::string base = test::read_file(cfg) + "[alerts]\nrules = \"" + rules.string() +
                            "\"\ngpio_chip = \"/nonexistent/gpiochip9\"\ngpio_line = 3\n";
   test::write_file(cfg, base + "silent = true\n");
-  DaemonProcess daemon({SPINEWATCHD, "--config", cfg.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", cfg.string(), "--listen", "none", "--unix", (dir / "p.sock").string()},
                        dir / "daemon.log");
   auto client = connect(daemon);
   ASSERT_TRUE(client) << daemon.log();

@@ -28,7 +28,7 @@ TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartial
                                rec.string() + "\"\ncalibration = \"/nonexistent/cal.yaml\"\n[exposure]\ninterval_s = 1\n"
                            "[privacy]\nsecret_file = \"" + (dir / "pseudonym.key").string() + "\"\n");
   const auto sock = dir / "p.sock";
-  DaemonProcess daemon({SPINEWATCHD, "--config", config.string(), "--listen", "none", "--unix", sock.string()},
+  DaemonProcess daemon({test::daemon_path(), "--config", config.string(), "--listen", "none", "--unix", sock.string()},
                        dir / "daemon.log");
   std::optional<LineClient> client;
   for (auto deadline = std::chrono::steady_clock::now() + 15s; !client && std::chrono::steady_clock::now() < deadline;) {

@@ -24,7 +24,7 @@ class HttpDaemon {
                        "frontal = \"/nonexistent/video0\"\nlateral = \"/nonexistent/video2\"\n"
                        "calibration = \"/nonexistent/cal.yaml\"\n[publish]\nclient_queue = 100000\n[http]\n" +
                            http_keys);
-    daemon_.emplace(std::vector<std::string>{SPINEWATCHD, "--config", config.string(), "--listen",
+    daemon_.emplace(std::vector<std::string>{test::daemon_path(), "--config", config.string(), "--listen",
                                              "127.0.0.1:" + std::to_string(stream_port_), "--unix", "none", "--http",
                                              "127.0.0.1:" + std::to_string(http_port_)},
                     dir / "daemon.log");
@@ -34,7 +34,7 @@ class HttpDaemon {
   // here: the demo's is in its build directory).
   struct AsTheDemo {};
   HttpDaemon(const TempDir& dir, AsTheDemo) : stream_port_(free_port()), http_port_(free_port()) {
-    daemon_.emplace(std::vector<std::string>{SPINEWATCHD, "--config", SPINEWATCH_SOURCE_DIR "/config/demo.toml",
+    daemon_.emplace(std::vector<std::string>{test::daemon_path(), "--config", test::source_dir() + "/config/demo.toml",
                                              "--listen", "127.0.0.1:" + std::to_string(stream_port_), "--unix", "none",
                                              "--http", "127.0.0.1:" + std::to_string(http_port_)},
                     dir / "daemon.log");

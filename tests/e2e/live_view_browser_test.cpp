@@ -86,7 +86,7 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
                             << " tracked pages";
   EXPECT_GT(frames_written(), frames_before) << "the page's MJPEG stream received no frame";
 
-  const auto png = std::filesystem::path(SPINEWATCH_BINARY_DIR) / "live_view.png";
+  const auto png = std::filesystem::path(test::binary_dir()) / "live_view.png";
   std::filesystem::remove(png);
   const auto r = test::run_command(chromium(dir, "--window-size=1280,960 --hide-scrollbars --screenshot='" + png.string() + "'", url) +
                                    " 2>&1");

@@ -39,7 +39,7 @@ inline Result<std::vector<TwistFrame>> run_twist_phantom(const std::string& scen
   po.seed = seed;
   po.frames = frames;
   if (subject_name != "generic") {
-    auto subject = phantom::load_subject(std::string(SPINEWATCH_SOURCE_DIR) + "/config/subjects/" + subject_name + ".json");
+    auto subject = phantom::load_subject(test::source_dir() + "/config/subjects/" + subject_name + ".json");
     if (!subject.ok()) return subject.error();
     po.subject = *subject;
   }

@@ -178,7 +178,7 @@ TEST(AnsurSubject, BadLandmarksNameTheField) {
 TEST(AnsurSubject, CliRendersAMeasuredAdult) {
   test::TempDir dir;
   const std::string env = "SPINEWATCH_ANSUR_DIR='" + ansur_dir().string() + "' ";
-  auto r = test::run_command(env + SPINEWATCH_CLI + " phantom --scenario upright --frames 2 --empty-frames 1 --subject ansur:10027 --out " +
+  auto r = test::run_command(env + test::cli_path() + " phantom --scenario upright --frames 2 --empty-frames 1 --subject ansur:10027 --out " +
                              (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const json recording = json::parse(test::read_file(dir / "rec" / "recording.json"));
@@ -192,7 +192,7 @@ TEST(AnsurSubject, CliRendersAMeasuredAdult) {
   const json person = json::parse(truth.substr(second, truth.find('\n', second) - second));
   EXPECT_NEAR(person["neck"][1].get<double>(), 1520 - dev.t1_below_cervicale_mm, 10) << person.dump();
 
-  auto unknown = test::run_command(env + SPINEWATCH_CLI + " phantom --scenario upright --subject ansur:1 --out " +
+  auto unknown = test::run_command(env + test::cli_path() + " phantom --scenario upright --subject ansur:1 --out " +
                                    (dir / "rec2").string());
   EXPECT_EQ(unknown.exit_code, 1) << unknown.output;
   EXPECT_NE(unknown.output.find("ansur:1: no subject with SubjectId 1"), std::string::npos) << unknown.output;

@@ -29,7 +29,7 @@ TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverageAndAnatomical) {
   test::TempDir dir;
   const auto rec = dir / "rec";
   const auto phantom = test::run_cli(std::string("phantom --scenario ") + c.scenario + " --subject " +
-                                     SPINEWATCH_SOURCE_DIR + "/config/subjects/" + c.subject + ".json --out " + rec.string());
+                                     test::source_dir() + "/config/subjects/" + c.subject + ".json --out " + rec.string());
   ASSERT_EQ(phantom.exit_code, 0) << phantom.output;
   // The named phantom subjects carry the generic spine: scored with the
   // same placement (the measured one on measured people: tests/population).

@@ -17,7 +17,7 @@ namespace spinewatch::test {
 
 TempDir::TempDir() {
   std::random_device rd;
-  const auto base = std::filesystem::path(SPINEWATCH_BINARY_DIR) / "test-tmp";
+  const auto base = std::filesystem::path(binary_dir()) / "test-tmp";
   std::filesystem::create_directories(base);
   for (int attempt = 0; attempt < 100; ++attempt) {
     // Built with a stream: GCC 12 warns falsely (-Wrestrict) on "t" + std::string at -O2.
@@ -57,7 +57,7 @@ std::vector<nlohmann::json> read_ndjson(const std::filesystem::path& path) {
 }
 
 std::filesystem::path source_path(const std::string& relative) {
-  return std::filesystem::path(SPINEWATCH_SOURCE_DIR) / relative;
+  return std::filesystem::path(source_dir()) / relative;
 }
 
 std::uint16_t free_port() {
@@ -87,7 +87,7 @@ CommandResult run_command(const std::string& command_line) {
   return result;
 }
 
-CommandResult run_cli(const std::string& args) { return run_command(std::string(SPINEWATCH_CLI) + " " + args); }
+CommandResult run_cli(const std::string& args) { return run_command(cli_path() + " " + args); }
 
 Posture sample_tracking_posture() {
   Posture p;

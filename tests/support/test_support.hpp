@@ -10,6 +10,13 @@
 
 namespace spinewatch::test {
 
+// This build's source and build trees and its two programs (generated:
+// tests/CMakeLists.txt).
+const std::string& source_dir();
+const std::string& binary_dir();
+const std::string& cli_path();     // spinewatch
+const std::string& daemon_path();  // spinewatchd
+
 // How much longer a wait on the estimator may take in this build. Under
 // ASan and UBSan every memory access of the CVSM's bit loops is checked:
 // building a subject model (≈ 2 000 cost evaluations over the first ten
