@@ -2,8 +2,11 @@
 #include <sys/stat.h>
 
 #include <atomic>
+#include <future>
 #include <thread>
 
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -108,10 +111,38 @@ TEST_F(PublisherTest, TwoReadersGetEveryLineInOrder) {
   EXPECT_EQ(pub->stats().lines, kLines);
 }
 
+// publish() hands a line to the I/O thread and returns: it never waits for
+// that thread, so it cannot wait for a client. Shown by construction, not
+// by a stopwatch: with the I/O thread held, publishing more lines than the
+// inbox holds still returns, and the overflow is counted, not waited out.
+TEST_F(PublisherTest, PublishReturnsWhileTheIoThreadIsHeld) {
+  auto options = both();
+  options.inbox = 64;
+  auto pub = start(options);
+  ASSERT_TRUE(pub);
+  std::promise<void> release;
+  std::promise<void> held;
+  boost::asio::post(pub->io_context(), [&] {
+    held.set_value();
+    release.get_future().wait();
+  });
+  held.get_future().wait();
+  for (std::uint64_t i = 0; i < 1000; ++i) pub->publish(numbered(i, 1000));
+  const auto held_stats = pub->stats();
+  release.set_value();
+  EXPECT_EQ(held_stats.lines, 0u) << "the held I/O thread sent lines";
+  EXPECT_EQ(held_stats.inbox, 64u);
+  EXPECT_EQ(held_stats.lines_dropped, 1000u - 64u);
+  EXPECT_TRUE(eventually([&] { return pub->stats().lines == 64u; })) << pub->stats().lines;
+}
+
 TEST_F(PublisherTest, SilentClientIsDroppedWithoutDelayingTheOthers) {
   auto options = both();
-  options.client_queue = 256;  // ~60 ms of slack for the reader at this test's rate
+  options.client_queue = 256;
   options.send_buffer_bytes = 4096;
+  // Every line reaches the I/O thread, however the test's threads are
+  // scheduled on a loaded machine: this test is about the clients' queues.
+  options.inbox = 100000;
   auto pub = start(options);
   ASSERT_TRUE(pub);
   auto silent = LineClient::tcp(pub->tcp_port(), 4096);  // never reads
@@ -119,24 +150,29 @@ TEST_F(PublisherTest, SilentClientIsDroppedWithoutDelayingTheOthers) {
   ASSERT_EQ(reader.read_line(), kHello);
   ASSERT_TRUE(eventually([&] { return pub->stats().clients == 2; }));
 
+  // The publishing is paced by the reader: it never lags more than half its
+  // queue behind, however the threads are scheduled, while the silent
+  // client's queue fills up and it is dropped.
   constexpr std::uint64_t kLines = 1500;
+  constexpr std::uint64_t kMaxLag = 128;
   std::vector<std::uint64_t> got;
+  std::atomic<std::uint64_t> received{0};
+  std::atomic<bool> reader_done{false};
   std::thread read_all([&] {
-    while (got.size() < kLines)
+    while (got.size() < kLines) {
       if (auto l = reader.read_line()) got.push_back(seq_of(*l)); else break;
+      received.store(got.size());
+    }
+    reader_done.store(true);
   });
-  auto slowest_publish = std::chrono::nanoseconds(0);
   for (std::uint64_t i = 0; i < kLines; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    while (i >= received.load() + kMaxLag && !reader_done.load()) std::this_thread::sleep_for(100us);
     pub->publish(numbered(i, 1000));
-    slowest_publish = std::max(slowest_publish, std::chrono::steady_clock::now() - t0);
-    if (i % 4 == 0) std::this_thread::sleep_for(1ms);
   }
   read_all.join();
 
   ASSERT_EQ(got.size(), kLines) << "the reading client lost lines";
   for (std::uint64_t i = 0; i < kLines; ++i) ASSERT_EQ(got[i], i);
-  EXPECT_LT(slowest_publish, 50ms) << "publish() waited for a client";
   EXPECT_EQ(pub->stats().clients_dropped, 1u);
   EXPECT_TRUE(eventually([&] { return pub->stats().clients == 1u; })) << pub->stats().clients;
   EXPECT_TRUE(silent.wait_closed(5s)) << "the silent client was not disconnected";

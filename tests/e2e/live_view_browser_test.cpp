@@ -13,6 +13,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "test_support.hpp"
 #include "http_daemon.hpp"
 
 namespace spinewatch {
