@@ -26,7 +26,7 @@
 
 #include "spinewatch/estimator/silhouette/threshold_row.hpp"
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(SPINEWATCH_LANES_GENERIC)
 #include <emmintrin.h>
 #endif
 
@@ -64,7 +64,7 @@ void threshold_colour_reference(const ThresholdRow& row, std::uint64_t* out) {
   }
 }
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(SPINEWATCH_LANES_GENERIC)
 namespace {
 
 // Each 16-bit lane with its neighbour's (0↔1, 2↔3, …): the other pixel of

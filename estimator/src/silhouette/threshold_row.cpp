@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(SPINEWATCH_LANES_GENERIC)
 #include <emmintrin.h>
 #endif
 
@@ -28,7 +28,7 @@ void threshold_row_reference(const ThresholdRow& row, std::uint64_t* out) {
   }
 }
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(SPINEWATCH_LANES_GENERIC)
 namespace {
 
 // Sixteen pixels at x (eight per half) to sixteen bits. |a − b| as the OR of
