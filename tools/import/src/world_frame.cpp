@@ -20,17 +20,21 @@ std::string vec(const Eigen::Vector3d& v, int decimals = 3) {
   return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), decimals, v.y(), decimals, v.z(), decimals);
 }
 
-// The world direction an upright view of the camera's image calls "up":
-// R's rows are the camera's axes in the world; image y points down; a
-// caliscope rotation_count of 1 turns the image 90° clockwise for display
-// (down is then the camera's +x), −1 or 3 counter-clockwise (−x), 2 half a turn.
-Eigen::Vector3d image_up(const NamedCamera& cam) {
-  const Eigen::Matrix3d& R = cam.model.R;
+// The world directions an upright view of the camera's image calls "up"
+// and "right": R's rows are the camera's axes in the world, image y points
+// down; a caliscope rotation_count of 1 turns the image 90° clockwise for
+// display (its top is then the camera's −x, its right the camera's −y),
+// −1 or 3 counter-clockwise, 2 half a turn.
+struct UprightAxes {
+  Eigen::Vector3d up, right;
+};
+UprightAxes upright_axes(const NamedCamera& cam) {
+  const Eigen::Vector3d x = cam.model.R.row(0).transpose(), y = cam.model.R.row(1).transpose();
   switch (((cam.rotation_count % 4) + 4) % 4) {
-    case 1: return -R.row(0).transpose();
-    case 2: return R.row(1).transpose();
-    case 3: return R.row(0).transpose();
-    default: return -R.row(1).transpose();
+    case 1: return {-x, -y};
+    case 2: return {y, -x};
+    case 3: return {x, y};
+    default: return {-y, x};
   }
 }
 
@@ -69,25 +73,46 @@ Result<Eigen::Vector3d> parse_up(const std::string& text) {
 }
 
 Result<Eigen::Vector3d> estimate_up(const CameraArray& array, std::vector<std::string>& report) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
+  // A camera held level (not rolled) has a horizontal image "right"
+  // whatever its pitch: up is the direction most nearly perpendicular to
+  // every camera's right (least squares: the smallest eigenvector of
+  // Σ right·rightᵀ), turned to agree with their image "up"s. Their mean
+  // alone would lean towards where cameras looking down look.
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d mean_up = Eigen::Vector3d::Zero();
+  std::vector<const NamedCamera*> used;
   for (const NamedCamera& cam : array.cameras)
     if (!cam.ignored && cam.has_extrinsics) {
-      sum += image_up(cam);
-      ++n;
+      const UprightAxes axes = upright_axes(cam);
+      scatter += axes.right * axes.right.transpose();
+      mean_up += axes.up;
+      used.push_back(&cam);
     }
-  if (n == 0 || sum.norm() < 0.3 * n)
+  if (used.empty() || mean_up.norm() < 0.3 * static_cast<double>(used.size()))
     return Error{fmt::format("{}: the cameras' image \"up\" directions disagree (or there are none): give the up "
                              "axis with --up X,Y,Z in the calibration's frame",
                              array.source)};
-  const Eigen::Vector3d up = sum.normalized();
-  std::string spread;
-  for (const NamedCamera& cam : array.cameras)
-    if (!cam.ignored && cam.has_extrinsics)
-      spread += fmt::format("{}{} {:.0f}°", spread.empty() ? "" : ", ", cam.id, degrees_between(image_up(cam), up));
-  report.push_back(fmt::format("up {} in the calibration's frame: the mean image \"up\" of {} cameras (each off it "
-                               "by: {}); give --up X,Y,Z if the cameras are not held level",
-                               vec(up), n, spread));
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);  // eigenvalues ascending
+  Eigen::Vector3d up;
+  std::string how;
+  // Two rights at least 15° apart pin it (the second eigenvalue then
+  // exceeds sin²15° / 2 ≈ 0.033); else the image "up"s' mean.
+  if (used.size() >= 2 && solver.eigenvalues()(1) > 0.033) {
+    up = solver.eigenvectors().col(0);
+    if (up.dot(mean_up) < 0) up = -up;
+    how = fmt::format("perpendicular to the image horizontals of {} cameras (least squares)", used.size());
+  } else {
+    up = mean_up.normalized();
+    how = fmt::format("the mean image \"up\" of {} camera{} (their horizontals do not pin it)", used.size(),
+                      used.size() == 1 ? "" : "s");
+  }
+  std::string roll;
+  for (const NamedCamera* cam : used)
+    roll += fmt::format("{}{} {:.0f}°", roll.empty() ? "" : ", ", cam->id,
+                        std::asin(std::clamp(upright_axes(*cam).right.dot(up), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+  report.push_back(fmt::format("up {} in the calibration's frame: {}; the cameras' roll against it: {}; give "
+                               "--up X,Y,Z when the calibration knows the floor",
+                               vec(up), how, roll));
   return up;
 }
 
