@@ -2,6 +2,7 @@
 // caliscope's sessions): both sessions imported once for the suite, one
 // replayed; the projection through the imported calibration against
 // caliscope's; the bad inputs. Skipped when the footage is absent.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -9,6 +10,8 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/capture/recording.hpp"
@@ -32,16 +35,17 @@ std::string import_args(const char* session, const char* f, const char* l) {
 
 class ImportReal : public ::testing::Test {
  protected:
-  // charuco_calibration cam_0/cam_1 (83° apart), whole, crop from motion,
-  // median background; 4_cam_recording cam_1/cam_3 (87°), 12 pairs, a given crop.
+  // charuco_calibration cam_0/cam_1 (83° apart), whole, crop from motion;
+  // 4_cam_recording cam_1/cam_3 (87°), 12 pairs, a given crop, median
+  // background (kept short: the median is instrumented under ASan).
   static constexpr const char* kCrop = "200,40,880,660";
   static void SetUpTestSuite() {
     if (!fs::exists(real_dir())) return;
     dir_ = std::make_unique<test::TempDir>();
-    first_ = test::run_cli(import_args("charuco_calibration", "cam_0", "cam_1") + " --median-background --out " +
+    first_ = test::run_cli(import_args("charuco_calibration", "cam_0", "cam_1") + " --out " +
                            q(dir_->path() / "charuco"));
     second_ = test::run_cli(import_args("4_cam_recording", "cam_1", "cam_3") + " --frames 12 --crop " + kCrop +
-                            " --out " + q(dir_->path() / "four"));
+                            " --median-background --out " + q(dir_->path() / "four"));
   }
   static void TearDownTestSuite() { dir_.reset(); }
   void SetUp() override {
@@ -94,7 +98,8 @@ TEST_F(ImportReal, BothSessionsBecomeRecordings) {
     for (std::size_t i = 1; i < bytes.size(); i += 2) off_grey += std::abs(bytes[i] - 128) > 8;
     EXPECT_GT(off_grey, 1000) << name;
   }
-  auto backgrounds = load_background_images(dir_->path() / "charuco", 320, 240);
+  EXPECT_FALSE(has_background_images(dir_->path() / "charuco"));
+  auto backgrounds = load_background_images(dir_->path() / "four", 320, 240);
   ASSERT_TRUE(backgrounds) << backgrounds.error().message;
   EXPECT_TRUE(backgrounds->frontal.colour());
 }
@@ -143,6 +148,47 @@ TEST_F(ImportReal, AnImportedSessionReplays) {
     EXPECT_EQ(lines[i]["seq"], i);
   }
   EXPECT_EQ(test::validate_ndjson(out), "");
+}
+
+// --offset pairs lateral frame i + N with frontal frame i; --up,
+// --camera-height and the given backgrounds land where they should.
+TEST_F(ImportReal, OptionsHaveTheirEffect) {
+  ASSERT_EQ(second_.exit_code, 0) << second_.output;
+  const fs::path out = dir_->path() / "options";
+  cv::Mat empty_scene(720, 1280, CV_8UC3, cv::Scalar(40, 160, 90));  // BGR
+  ASSERT_TRUE(cv::imwrite((dir_->path() / "scene.png").string(), empty_scene));
+  const std::string scene = q(dir_->path() / "scene.png");
+  auto r = test::run_cli(import_args("4_cam_recording", "cam_1", "cam_3") + " --frames 6 --offset 2 --crop " + kCrop +
+                         " --up 1,0,0 --camera-height 1500 --background-frontal " + scene +
+                         " --background-lateral " + scene + " --out " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(1.000, 0.000, 0.000) in the calibration's frame (--up)"), std::string::npos) << r.output;
+  auto shifted = RecordingReader::open(out);
+  ASSERT_TRUE(shifted) << shifted.error().message;
+  auto plain = RecordingReader::open(dir_->path() / "four");
+  ASSERT_TRUE(plain) << plain.error().message;
+  ASSERT_EQ(shifted->frame_count(View::Lateral), 6u);
+  auto same_bytes = [](const Result<Frame>& a, const Result<Frame>& b) {
+    return a && b && std::equal(a->bytes().begin(), a->bytes().end(), b->bytes().begin(), b->bytes().end());
+  };
+  EXPECT_TRUE(same_bytes(shifted->read(View::Frontal, 0), plain->read(View::Frontal, 0)));
+  EXPECT_TRUE(same_bytes(shifted->read(View::Lateral, 0), plain->read(View::Lateral, 2)));
+  EXPECT_FALSE(same_bytes(shifted->read(View::Lateral, 0), plain->read(View::Lateral, 0)));
+
+  const auto provenance = nlohmann::json::parse(test::read_file(out / "import.json"));
+  EXPECT_EQ(provenance["offset"], 2);
+  EXPECT_NEAR(provenance["world_frame"]["axes"][1][0].get<double>(), 1.0, 1e-12);
+  auto rig = load_calibration(out / "calibration.yaml");
+  ASSERT_TRUE(rig) << rig.error().message;
+  EXPECT_NEAR(0.5 * (rig->frontal.centre_in_world().y() + rig->lateral.centre_in_world().y()), 1500, 1e-6);
+  auto backgrounds = load_background_images(out, 320, 240);
+  ASSERT_TRUE(backgrounds) << backgrounds.error().message;
+  ASSERT_TRUE(backgrounds->lateral.colour());
+  // Full-range BT.601 of BGR (40, 160, 90): Y 125, U (Cb) 80, V (Cr) 103.
+  const auto& px = backgrounds->lateral.pixels;
+  EXPECT_NEAR(px[0], 125, 1);
+  EXPECT_NEAR(px[1], 80, 1);
+  EXPECT_NEAR(px[3], 103, 1);
 }
 
 TEST_F(ImportReal, BadInputGetsOneClearMessage) {
