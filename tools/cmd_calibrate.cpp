@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "calibrate_from.hpp"
 #include "command.hpp"
 #include "spinewatch/calibrate/live_session.hpp"
 #include "spinewatch/capture/recording.hpp"
@@ -150,7 +151,9 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--write-board", opts->write_board, "Write the board as a PNG to print, and exit");
   cmd->add_option("--dpi", opts->dpi, "Resolution of --write-board")->check(CLI::Range(20.0, 1200.0))->capture_default_str();
 
-  cmd->callback([opts, &exit_code] {
+  auto from = add_calibrate_from_options(cmd);  // --from: another tool's file (calibrate_from.hpp)
+  cmd->callback([opts, from, &exit_code] {
+    if (run_calibrate_from(*from, opts->out, exit_code)) return;
     // Calibrates, prints the report, writes the file when accepted.
     auto finish = [&](const CalibrationBoard& board, const std::array<CameraFrames, 2>& frames, cv::Size size,
                       const PlacementSpec& placement) {

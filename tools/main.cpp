@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   cli::add_report_command(app, exit_code);
   cli::add_calibrate_command(app, exit_code);
   cli::add_export_command(app, exit_code);
+  cli::add_import_command(app, exit_code);
 
   try {
     app.parse(argc, argv);

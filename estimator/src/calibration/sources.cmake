@@ -5,3 +5,8 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/camera_views.cpp
   ${CMAKE_CURRENT_LIST_DIR}/station_calibration.cpp
   ${CMAKE_CURRENT_LIST_DIR}/view_collector.cpp)
+# Calibrations from other tools (caliscope, anipose, OpenCV JSON): docs/import.md.
+list(APPEND ESTIMATOR_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/foreign_calibration.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/foreign_json.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/foreign_toml.cpp)
