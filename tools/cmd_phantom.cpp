@@ -22,6 +22,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     // Station geometry and scene (docs/phantom.md).
     std::optional<double> tilt, roll, pair_angle, height;
     std::string room, backdrop_frontal, backdrop_lateral;
+    bool desk = false, no_desk = false;
   };
   auto opts = std::make_shared<Options>();
   std::vector<std::string> names;
@@ -74,8 +75,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--backdrop-lateral", opts->backdrop_lateral, "A photograph used as the lateral view's room")
       ->check(CLI::ExistingFile);
-  cmd->add_flag("--desk,!--no-desk", opts->phantom.desk,
-                "A desk (seated) or bench (standing) in front of the subject; on by default in typing and reach");
+  auto* desk = cmd->add_flag("--desk", opts->desk,
+                             "A desk (seated) or bench (standing) in front of the subject; on by default in typing and reach");
+  cmd->add_flag("--no-desk", opts->no_desk, "No desk or bench, whatever the scenario")->excludes(desk);
   cmd->add_option("--h264", opts->phantom.h264_crf,
                   "Compress the written frames with H.264 at this CRF (0 lossless, 23 x264's default, 51 worst)")
       ->check(CLI::Range(0, 51));
@@ -110,6 +112,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     }
     if (station)
       p.station = phantom::StationGeometry{opts->tilt, opts->roll.value_or(0), opts->pair_angle.value_or(90), opts->height};
+    if (opts->desk || opts->no_desk) p.desk = opts->desk;
     if (opts->room == "cluttered") p.room = phantom::RoomKind::Cluttered;
     if (opts->backdrop_frontal.empty() != opts->backdrop_lateral.empty()) {
       spdlog::error("phantom: give --backdrop-frontal and --backdrop-lateral together");

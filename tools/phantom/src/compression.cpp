@@ -7,6 +7,7 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavutil/error.h>
 #include <libavutil/frame.h>
+#include <libavutil/log.h>
 #include <libavutil/opt.h>
 }
 
@@ -50,6 +51,7 @@ H264RoundTrip::~H264RoundTrip() = default;
 Result<H264RoundTrip> H264RoundTrip::create(cv::Size size, int crf) {
   if (crf < kMinCrf || crf > kMaxCrf) return Error{fmt::format("h264: CRF {} is out of range [{}, {}]", crf, kMinCrf, kMaxCrf)};
   if (size.width % 2 || size.height % 2) return Error{"h264: the frame size must be even for 4:2:0"};
+  av_log_set_level(AV_LOG_ERROR);  // x264 reports its statistics at info level on every close
   const AVCodec* x264 = avcodec_find_encoder_by_name("libx264");
   const AVCodec* h264 = avcodec_find_decoder(AV_CODEC_ID_H264);
   if (!x264 || !h264)

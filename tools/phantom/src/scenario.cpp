@@ -127,7 +127,7 @@ TrunkMotion carry(int i, int n) {
 }
 LimbMotion carry_limbs(int i, int n) {
   LimbMotion l;
-  for (ArmMotion& arm : l.arms) arm = {20, 0, 72};
+  for (ArmMotion& arm : l.arms) arm = {10, 0, 55};
   l.head.flexion_deg = 10;
   l.head.twist_deg = 6 * wave(phase(i, n), 1.0);
   l.carries_box = true;
@@ -163,9 +163,7 @@ LimbMotion stride_limbs(int i, int n) {
   const double left_foot = -kHipHalfSpanMm + kStepAsideMm * ramp(v, 0.7, 1.0);
   l.legs[1] = {0, kRadToDeg * std::atan((right_foot - pelvis - kHipHalfSpanMm) / kLegDropMm), 25 * bump_in(v, 0, 0.35)};
   l.legs[0] = {0, kRadToDeg * std::atan((pelvis - kHipHalfSpanMm - left_foot) / kLegDropMm), 25 * bump_in(v, 0.7, 1.0)};
-  l.arms[0].elevation_deg = l.arms[1].elevation_deg = 0;
-  l.arms[0].swing_deg = l.arms[1].swing_deg = 90;
-  l.arms[1].elevation_deg = 12 * bump_in(v, 0, 0.7);  // a little out for balance
+  l.arms[1] = {12 * bump_in(v, 0, 0.7), 90, 0};  // a little out for balance
   return l;
 }
 
