@@ -120,6 +120,12 @@ TEST(PhantomScene, TheDeskHidesTheLegsAndBelongsToTheRoom) {
   // The legs show below the desk top without it; with it, nothing of the person does.
   const cv::Rect ea = extent(a, View::Frontal), eb = extent(b, View::Frontal);
   EXPECT_LT(ea.br().y, eb.br().y - 30);
+  // The waist (L5) is behind the desk from the frontal camera.
+  const auto waist = desk.camera(View::Frontal).project(*a.truth.waist);
+  ASSERT_TRUE(waist);
+  const cv::Point w(int(std::lround(waist->x())), int(std::lround(waist->y())));
+  EXPECT_EQ(a.person[0].at<std::uint8_t>(w), 0);
+  EXPECT_NE(b.person[0].at<std::uint8_t>(w), 0);
   // The desk is in the empty scene (the stored background), not in the person layer.
   cv::Mat diff;
   cv::absdiff(desk.background(View::Frontal), bare.background(View::Frontal), diff);
