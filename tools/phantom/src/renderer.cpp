@@ -92,7 +92,10 @@ ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32
   background_.convertTo(luma, CV_32F);
   cv::Mat depth = paint_room(room, camera, seed, view_index, luma, background_chroma_);
   luma.convertTo(background_, CV_8U);
-  if (!room.furniture.empty()) furniture_depth_ = std::move(depth);
+  if (!room.furniture.empty()) {
+    furniture_depth_ = std::move(depth);
+    furniture_box_ = cv::boundingRect(furniture_depth_ < std::numeric_limits<float>::infinity());
+  }
 }
 
 cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
@@ -125,15 +128,21 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
 
   std::vector<cv::Point2f> hull;
   std::vector<cv::Point> fixed;
-  // With furniture, the depth of the part drawn at each pixel, to hide what
-  // the furniture is in front of.
-  cv::Mat depth;
-  if (!furniture_depth_.empty()) depth = cv::Mat(layer.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  // With furniture, the depth of the part drawn at each pixel the
+  // furniture covers, to hide what it is in front of (kept from frame to
+  // frame, as compose()'s images).
+  const bool furniture = !furniture_box_.empty();
+  cv::Mat& depth = scratch_.part_depth;
+  if (furniture) {
+    depth.create(furniture_box_.size(), CV_32F);
+    depth.setTo(std::numeric_limits<float>::infinity());
+  }
+  const cv::Point box_offset(-furniture_box_.x * int(kSubpixel), -furniture_box_.y * int(kSubpixel));
   for (const Projected& p : parts) {
     cv::convexHull(p.points, hull);
-    if (!depth.empty()) {
+    if (furniture && (cv::boundingRect(hull) & furniture_box_).area() > 0) {
       fixed.clear();
-      for (const auto& h : hull) fixed.emplace_back(cvRound(h.x * kSubpixel), cvRound(h.y * kSubpixel));
+      for (const auto& h : hull) fixed.emplace_back(cvRound(h.x * kSubpixel) + box_offset.x, cvRound(h.y * kSubpixel) + box_offset.y);
       cv::fillConvexPoly(depth, fixed, cv::Scalar(p.depth), cv::LINE_8, kShift);
     }
     cv::Point2f mean(0, 0);
@@ -150,7 +159,14 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
       cv::fillConvexPoly(layer, fixed, cv::Scalar(std::min(255, p.shade + extra)), cv::LINE_8, kShift);
     }
   }
-  if (!depth.empty()) layer.setTo(0, furniture_depth_ < depth);
+  if (furniture)
+    for (int y = 0; y < depth.rows; ++y) {
+      const float* part = depth.ptr<float>(y);
+      const float* room = furniture_depth_.ptr<float>(y + furniture_box_.y) + furniture_box_.x;
+      std::uint8_t* out = layer.ptr<std::uint8_t>(y + furniture_box_.y) + furniture_box_.x;
+      for (int x = 0; x < depth.cols; ++x)
+        if (room[x] < part[x]) out[x] = 0;
+    }
   return layer;
 }
 

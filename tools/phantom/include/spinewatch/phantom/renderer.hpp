@@ -46,6 +46,7 @@ class ViewRenderer {
   CameraModel camera_;
   cv::Mat background_;     // CV_8U
   cv::Mat furniture_depth_;  // CV_32F, camera z of the furniture (infinity: none); empty without furniture
+  cv::Rect furniture_box_;   // the pixels the furniture covers, bounding box
   cv::Mat background_chroma_;  // CV_32FC2
   cv::Mat cloth_texture_;  // CV_32F, a few grey levels either way
   // compose()'s float working images, kept from frame to frame: allocated
@@ -53,6 +54,7 @@ class ViewRenderer {
   // long phantom run under the sanitizers (docs/performance.md).
   struct Scratch {
     cv::Mat background, shade, weight, blurred, person;
+    cv::Mat part_depth;  // CV_32F over furniture_box_: the depth of the part drawn at each pixel
   };
   mutable Scratch scratch_;
 };
