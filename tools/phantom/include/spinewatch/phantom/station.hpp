@@ -18,12 +18,12 @@ struct StationGeometry {
   // Both cameras look down by this much (0–45°). Without a height, they are
   // raised until they look at the aim point again.
   std::optional<double> tilt_deg;
-  // Both cameras turned about their optical axes (0–25°; the image turns
-  // clockwise by it).
+  // Both cameras turned about their optical axes (0–25°): the world's
+  // verticals lean in the image by it, their tops to the image's left.
   double roll_deg = 0;
   // The horizontal angle between the two optical axes (45–135°): the
-  // lateral camera on a circle round the subject, the frontal camera stays
-  // on +X.
+  // lateral camera at that azimuth from +X towards +Z on a circle round the
+  // subject (90: on +Z, as the default rig), the frontal camera stays on +X.
   double pair_angle_deg = 90;
   // The cameras' height above the floor (300–3500 mm). Without a tilt,
   // they are tilted until they look at the aim point; with both, the
