@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include <Eigen/Geometry>
@@ -340,6 +341,35 @@ TEST(PhantomCompression, ARecordingWrittenThroughH264) {
   EXPECT_GT(mean, 0.3);
   EXPECT_LT(mean, 6);
   EXPECT_NE(test::read_file(dir / "coded" / "recording.json").find("h264_crf=28"), std::string::npos);
+}
+
+// Both views side by side, noise-free, for docs/phantom.md:
+// SPINEWATCH_PHANTOM_IMAGES=docs/images regenerates them; otherwise they
+// go to a temporary directory (and are read back).
+TEST(PhantomScene, SavesExampleImagesOfTheVariety) {
+  test::TempDir tmp;
+  const char* env = std::getenv("SPINEWATCH_PHANTOM_IMAGES");
+  const std::filesystem::path dir = env ? std::filesystem::path(env) : tmp.path();
+  struct Example {
+    const char* file;
+    PhantomOptions options;
+    int frame;
+  };
+  PhantomOptions typing = short_run("typing", 9), lunge = short_run("lunge", 9), carry = short_run("carry", 9),
+                 station = short_run("arms_overhead", 9);
+  carry.room = RoomKind::Cluttered;
+  station.station = geometry(25, 15, 70, {});
+  station.heading_deg = 30;
+  for (const Example& e : {Example{"phantom-typing.png", typing, 4}, Example{"phantom-lunge.png", lunge, 4},
+                           Example{"phantom-carry-cluttered.png", carry, 2},
+                           Example{"phantom-tilt-roll-pair70.png", station, 3}}) {
+    const PhantomFrame frame = make(e.options).render(e.frame);
+    cv::Mat both;
+    cv::hconcat(frame.clean[0], frame.clean[1], both);
+    ASSERT_TRUE(cv::imwrite((dir / e.file).string(), both)) << e.file;
+    const cv::Mat back = cv::imread((dir / e.file).string(), cv::IMREAD_GRAYSCALE);
+    EXPECT_EQ(cv::countNonZero(back != both), 0) << e.file;
+  }
 }
 
 }  // namespace
