@@ -2,6 +2,7 @@
 // with ground truth (docs/phantom.md).
 #include <chrono>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -18,6 +19,10 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     std::string scenario, out, subject, calibration;
     int frames = 0;
     bool list = false;
+    // Station geometry and scene (docs/phantom.md).
+    std::optional<double> tilt, roll, pair_angle, height;
+    std::string room, backdrop_frontal, backdrop_lateral;
+    bool desk = false, no_desk = false;
   };
   auto opts = std::make_shared<Options>();
   std::vector<std::string> names;
@@ -54,6 +59,28 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       ->check(CLI::Range(0, 10000))
       ->capture_default_str();
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml of the rig (default: the documented default rig)");
+  auto* geometry = cmd->add_option_group("station geometry", "The rig built from these (not with --calibration)");
+  geometry->add_option("--camera-tilt", opts->tilt, "Both cameras look down by DEG at the trunk")->check(CLI::Range(0.0, 45.0));
+  geometry->add_option("--camera-roll", opts->roll, "Both cameras rolled by DEG about their axes")->check(CLI::Range(0.0, 25.0));
+  geometry->add_option("--pair-angle", opts->pair_angle, "Angle between the two views, DEG (default rig: 90)")
+      ->check(CLI::Range(45.0, 135.0));
+  geometry->add_option("--camera-height", opts->height, "The cameras' height above the floor, MM (default rig: 1100)")
+      ->check(CLI::Range(300.0, 3500.0));
+  cmd->add_option("--heading", opts->phantom.heading_deg,
+                  "Which way the subject faces, DEG counter-clockwise from above (180: back to the frontal camera)")
+      ->check(CLI::Range(-360.0, 360.0));
+  cmd->add_option("--room", opts->room, "The room: plain (default) or cluttered")
+      ->check(CLI::IsMember({"plain", "cluttered"}));
+  cmd->add_option("--backdrop-frontal", opts->backdrop_frontal, "A photograph used as the frontal view's room")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--backdrop-lateral", opts->backdrop_lateral, "A photograph used as the lateral view's room")
+      ->check(CLI::ExistingFile);
+  auto* desk = cmd->add_flag("--desk", opts->desk,
+                             "A desk (seated) or bench (standing) in front of the subject; on by default in typing and reach");
+  cmd->add_flag("--no-desk", opts->no_desk, "No desk or bench, whatever the scenario")->excludes(desk);
+  cmd->add_option("--h264", opts->phantom.h264_crf,
+                  "Compress the written frames with H.264 at this CRF (0 lossless, 23 x264's default, 51 worst)")
+      ->check(CLI::Range(0, 51));
 
   cmd->callback([opts, &exit_code] {
     if (opts->list) {
@@ -75,6 +102,35 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
                          : phantom::load_subject(opts->subject);
       if (!subject) return exit_code.fail(subject.error());
       p.subject = std::move(subject).value();
+    }
+    const bool station = opts->tilt || opts->roll || opts->pair_angle || opts->height;
+    if (station && !opts->calibration.empty()) {
+      spdlog::error("phantom: --calibration gives the rig; --camera-tilt, --camera-roll, --pair-angle and "
+                    "--camera-height build one: give one or the other");
+      exit_code.value = 2;
+      return;
+    }
+    if (station)
+      p.station = phantom::StationGeometry{opts->tilt, opts->roll.value_or(0), opts->pair_angle.value_or(90), opts->height};
+    if (opts->desk || opts->no_desk) p.desk = opts->desk;
+    if (opts->room == "cluttered") p.room = phantom::RoomKind::Cluttered;
+    if (opts->backdrop_frontal.empty() != opts->backdrop_lateral.empty()) {
+      spdlog::error("phantom: give --backdrop-frontal and --backdrop-lateral together");
+      exit_code.value = 2;
+      return;
+    }
+    if (!opts->backdrop_frontal.empty()) {
+      if (!opts->room.empty()) {
+        spdlog::error("phantom: --room and the backdrop photographs both say what the room is: give one of them");
+        exit_code.value = 2;
+        return;
+      }
+      for (View view : kViews) {
+        const std::string& path = view == View::Frontal ? opts->backdrop_frontal : opts->backdrop_lateral;
+        auto image = phantom::load_backdrop(path);
+        if (!image) return exit_code.fail(image.error());
+        p.backdrop[static_cast<std::size_t>(view)] = std::move(image).value();
+      }
     }
     if (!opts->calibration.empty()) {
       auto rig = load_calibration(opts->calibration);

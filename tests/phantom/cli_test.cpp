@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include <cmath>
+
+#include <Eigen/Core>
+
 #include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/phantom/scenario.hpp"
 #include "test_support.hpp"
 
@@ -75,6 +80,37 @@ TEST(PhantomCli, UnwritableOutExitsOne) {
   test::write_file(dir / "file", "x");
   auto r = test::run_cli("phantom --scenario upright --frames 2 --out " + (dir / "file" / "rec").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+// The station, scene and compression options reach the recording.
+TEST(PhantomCli, StationSceneAndCompressionOptions) {
+  test::TempDir dir;
+  auto r = test::run_cli("phantom --scenario typing --frames 2 --empty-frames 1 --camera-tilt 20 --camera-roll 10 "
+                         "--pair-angle 70 --heading 30 --room cluttered --h264 30 --out " + (dir / "rec").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto rig = load_calibration(dir / "rec" / "calibration.yaml");
+  ASSERT_TRUE(rig) << rig.error().message;
+  const Eigen::Vector3d f = rig->frontal.R.row(2), l = rig->lateral.R.row(2);
+  const Eigen::Vector2d fh(f.x(), f.z()), lh(l.x(), l.z());
+  EXPECT_NEAR(std::acos(fh.normalized().dot(lh.normalized())) * 180 / M_PI, 70, 0.1);
+  EXPECT_NEAR(std::asin(-f.y()) * 180 / M_PI, 20, 1e-6);
+  const std::string json = test::read_file(dir / "rec" / "recording.json");
+  for (const char* note : {"camera_tilt=20", "pair_angle=70", "heading=30", "room=cluttered", "furniture=desk", "h264_crf=30"})
+    EXPECT_NE(json.find(note), std::string::npos) << note;
+}
+
+TEST(PhantomCli, CalibrationAndGeometryTogetherAreRefused) {
+  test::TempDir dir;
+  ASSERT_TRUE(save_calibration(dir / "calibration.yaml", CameraRig::default_rig()));
+  auto r = test::run_cli("phantom --scenario upright --frames 2 --camera-tilt 10 --calibration " +
+                         (dir / "calibration.yaml").string() + " --out " + (dir / "rec").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("give one or the other"), std::string::npos) << r.output;
+  auto half = test::run_cli("phantom --scenario upright --frames 2 --backdrop-frontal " +
+                            (dir / "calibration.yaml").string() + " --out " + (dir / "rec").string());
+  EXPECT_EQ(half.exit_code, 2) << half.output;
+  auto out_of_range = test::run_cli("phantom --scenario upright --pair-angle 150 --out " + (dir / "rec").string());
+  EXPECT_NE(out_of_range.exit_code, 0);
 }
 
 }  // namespace

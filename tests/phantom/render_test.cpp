@@ -113,7 +113,15 @@ TEST(PhantomRender, EmptyFramesShowTheSceneAndAreLost) {
 
 TEST(PhantomRender, NeckAndWaistLieInsideThePersonInBothViews) {
   for (const Scenario& scenario : scenarios()) {
-    const PhantomSequence sequence = make(std::string(scenario.name), 4, 30, 2);
+    // Without furniture: the desk hides the seated typist's waist from the
+    // frontal camera, as it should (variety_test.cpp).
+    PhantomOptions options;
+    options.scenario = scenario.name;
+    options.seed = 4;
+    options.frames = 30;
+    options.empty_frames = 2;
+    options.desk = false;
+    const PhantomSequence sequence = PhantomSequence::create(options).value();
     for (int i : {2, 2 + 15, 2 + 29}) {
       const PhantomFrame frame = sequence.render(i);
       ASSERT_TRUE(frame.truth.neck && frame.truth.waist);

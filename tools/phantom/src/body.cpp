@@ -5,18 +5,12 @@
 
 #include <Eigen/Geometry>
 
+#include "solids.hpp"
+
 namespace spinewatch::phantom {
-namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-constexpr int kRingPoints = 20;
-constexpr std::size_t kT12 = 11, kL1 = 12;
+namespace detail {
 
-// Clothing and skin, darker than the scene so the person stands out.
-constexpr std::uint8_t kShirt = kShirtShade, kSleeve = kSleeveShade, kTrousers = kTrousersShade, kSkin = kSkinShade;
-
-// Points on a unit sphere, enough that the hull of their projection is
-// within a fraction of a pixel of the true outline at this image scale.
 const std::vector<Eigen::Vector3d>& unit_sphere() {
   static const std::vector<Eigen::Vector3d> points = [] {
     std::vector<Eigen::Vector3d> p{Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitY()};
@@ -37,6 +31,29 @@ Solid capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ra, dou
   }
   return s;
 }
+
+Solid box(const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes, const Eigen::Vector3d& half, std::uint8_t shade) {
+  Solid s{{}, shade};
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d sign((corner & 1) ? 1 : -1, (corner & 2) ? 1 : -1, (corner & 4) ? 1 : -1);
+    s.points.push_back(centre + axes * sign.cwiseProduct(half));
+  }
+  return s;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::capsule;
+using detail::kDeg;
+using detail::unit_sphere;
+
+constexpr int kRingPoints = 20;
+constexpr std::size_t kT12 = 11, kL1 = 12;
+
+// Clothing and skin, darker than the scene so the person stands out.
+constexpr std::uint8_t kShirt = kShirtShade, kSleeve = kSleeveShade, kTrousers = kTrousersShade, kSkin = kSkinShade;
 
 Section lerp(const Section& a, const Section& b, double t) {
   return {a.half_width_mm + t * (b.half_width_mm - a.half_width_mm), a.half_depth_mm + t * (b.half_depth_mm - a.half_depth_mm)};
@@ -130,14 +147,30 @@ SegmentalMotion BodyModel::segmental_motion(const TrunkMotion& m) const {
   return out;
 }
 
-BodyPose BodyModel::pose(const TrunkMotion& m) const {
+BodyPose BodyModel::pose(const TrunkMotion& m, const LimbMotion* limbs) const {
   BodyPose body;
   body.motion = segmental_motion(m);
   body.spine = pose_spine(neutral_, body.motion);
-  add_legs(body.solids);
+  if (!limbs) {
+    add_legs(body.solids);
+    add_trunk(body.spine, body.solids);
+    add_head_and_arms(body.spine, body.solids);
+    return body;
+  }
+  add_posed_legs(*limbs, m.sway_mm, body.solids);
   add_trunk(body.spine, body.solids);
-  add_head_and_arms(body.spine, body.solids);
+  add_posed_head_and_arms(body.spine, *limbs, body.solids);
   return body;
+}
+
+void turn(BodyPose& body, double heading_deg) {
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(heading_deg * kDeg, Eigen::Vector3d::UnitY()));
+  for (VertebraPose& v : body.spine) {
+    v.body_center = q * v.body_center;
+    v.q = (q * v.q).normalized();
+  }
+  for (Solid& solid : body.solids)
+    for (Eigen::Vector3d& p : solid.points) p = q * p;
 }
 
 void BodyModel::add_trunk(const SpinePose& spine, std::vector<Solid>& out) const {
@@ -213,6 +246,21 @@ void BodyModel::add_head_and_arms(const SpinePose& spine, std::vector<Solid>& ou
     out.push_back(capsule(shoulder, elbow, s.upper_arm_radius_mm, 0.85 * s.upper_arm_radius_mm, kSleeve));
     out.push_back(capsule(elbow, hand, s.forearm_radius_mm, 0.75 * s.forearm_radius_mm, kSleeve));
   }
+}
+
+BodyModel::LegRest BodyModel::leg_rest(double side) const {
+  const Subject& s = subject_;
+  const Eigen::Vector3d hip = neutral_[kWaistIndex].body_center + hip_offset(side);
+  Eigen::Vector3d knee, ankle;
+  if (posture_ == SubjectPosture::Seated) {
+    knee = hip + Eigen::Vector3d(0.47 * s.leg_length_mm, -10 * scale_, 0);
+    ankle = Eigen::Vector3d(knee.x() + 40 * scale_, 80 * scale_, knee.z());
+  } else {
+    knee = Eigen::Vector3d(hip.x(), 0.5 * hip.y(), hip.z());
+    ankle = Eigen::Vector3d(hip.x(), 80 * scale_, hip.z());
+  }
+  return {knee - hip, ankle - knee, Eigen::Vector3d(-20 * scale_, -40 * scale_, 0),
+          Eigen::Vector3d(150 * scale_, -45 * scale_, 0)};
 }
 
 void BodyModel::add_legs(std::vector<Solid>& out) const {

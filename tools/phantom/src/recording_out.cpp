@@ -4,6 +4,7 @@
 
 #include "spinewatch/capture/background_images.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
+#include "spinewatch/phantom/compression.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch::phantom {
@@ -17,8 +18,23 @@ Status write_recording(const PhantomSequence& sequence, const std::filesystem::p
   std::ofstream truth(truth_path, std::ios::binary | std::ios::trunc);
   if (!truth) return Error{fmt::format("{}: cannot create", truth_path.string())};
 
+  // With compression, each view's frames through its own H.264 stream, in order.
+  std::vector<H264RoundTrip> streams;
+  if (const auto crf = sequence.options().h264_crf)
+    for (int view = 0; view < 2; ++view) {
+      auto stream = H264RoundTrip::create({kImageWidth, kImageHeight}, *crf);
+      if (!stream) return stream.error();
+      streams.push_back(std::move(stream).value());
+    }
+
   for (int index = 0; index < sequence.frame_count(); ++index) {
-    const PhantomFrame frame = sequence.render(index);
+    PhantomFrame frame = sequence.render(index);
+    for (std::size_t view = 0; view < streams.size(); ++view) {
+      auto coded = streams[view].pass(frame.luma[view], frame.chroma[view]);
+      if (!coded) return coded.error();
+      frame.luma[view] = std::move(coded->luma);
+      frame.chroma[view] = std::move(coded->chroma);
+    }
     const FrameInfo info{frame.seq, frame.t_ns};
     for (View view : kViews)
       if (auto s = writer->write(view, Frame::owning(format, info, yuyv_bytes(frame, static_cast<int>(view)))); !s)

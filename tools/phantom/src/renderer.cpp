@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -28,13 +29,19 @@ cv::Mat random_field(std::mt19937& rng, cv::Size size) {
 
 }  // namespace
 
-ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index)
+ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index,
+                           const RoomSetup& room)
     : camera_(camera) {
   std::seed_seq seq{seed, 1u, std::uint32_t(view_index)};
   std::mt19937 rng(seq);
 
   const Eigen::Vector3d centre = camera.centre_in_world();
-  const Eigen::Vector3d axis = camera.R.transpose() * Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d axis = camera.R.transpose() * Eigen::Vector3d::UnitZ();
+  if (axis.y() != 0) {
+    // A camera looking down still faces an upright wall.
+    axis.y() = 0;
+    axis.normalize();
+  }
   const double wall = -centre.dot(axis) + kWallBehindMm;
   cv::Mat scene(size, CV_32F);
   for (int v = 0; v < size.height; ++v)
@@ -78,6 +85,17 @@ ViewRenderer::ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32
       const float t = 2.0f * tint.at<float>(v, u);
       background_chroma_.at<cv::Vec2f>(v, u) = t_floor < t_wall ? cv::Vec2f(-4 + t, 6 - t) : cv::Vec2f(-10 + t, 14 + t);
     }
+  if (room.empty()) return;
+  // The room over the plain scene, drawn from streams of its own: the plain
+  // scene, the cloth and the noise stay what they were.
+  cv::Mat luma;
+  background_.convertTo(luma, CV_32F);
+  cv::Mat depth = paint_room(room, camera, seed, view_index, luma, background_chroma_);
+  luma.convertTo(background_, CV_8U);
+  if (!room.furniture.empty()) {
+    furniture_depth_ = std::move(depth);
+    furniture_box_ = cv::boundingRect(furniture_depth_ < std::numeric_limits<float>::infinity());
+  }
 }
 
 cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
@@ -110,8 +128,23 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
 
   std::vector<cv::Point2f> hull;
   std::vector<cv::Point> fixed;
+  // With furniture, the depth of the part drawn at each pixel the
+  // furniture covers, to hide what it is in front of (kept from frame to
+  // frame, as compose()'s images).
+  const bool furniture = !furniture_box_.empty();
+  cv::Mat& depth = scratch_.part_depth;
+  if (furniture) {
+    depth.create(furniture_box_.size(), CV_32F);
+    depth.setTo(std::numeric_limits<float>::infinity());
+  }
+  const cv::Point box_offset(-furniture_box_.x * int(kSubpixel), -furniture_box_.y * int(kSubpixel));
   for (const Projected& p : parts) {
     cv::convexHull(p.points, hull);
+    if (furniture && (cv::boundingRect(hull) & furniture_box_).area() > 0) {
+      fixed.clear();
+      for (const auto& h : hull) fixed.emplace_back(cvRound(h.x * kSubpixel) + box_offset.x, cvRound(h.y * kSubpixel) + box_offset.y);
+      cv::fillConvexPoly(depth, fixed, cv::Scalar(p.depth), cv::LINE_8, kShift);
+    }
     cv::Point2f mean(0, 0);
     for (const auto& h : hull) mean += h;
     mean *= 1.0f / float(hull.size());
@@ -126,6 +159,14 @@ cv::Mat ViewRenderer::person_layer(const BodyPose& body) const {
       cv::fillConvexPoly(layer, fixed, cv::Scalar(std::min(255, p.shade + extra)), cv::LINE_8, kShift);
     }
   }
+  if (furniture)
+    for (int y = 0; y < depth.rows; ++y) {
+      const float* part = depth.ptr<float>(y);
+      const float* room = furniture_depth_.ptr<float>(y + furniture_box_.y) + furniture_box_.x;
+      std::uint8_t* out = layer.ptr<std::uint8_t>(y + furniture_box_.y) + furniture_box_.x;
+      for (int x = 0; x < depth.cols; ++x)
+        if (room[x] < part[x]) out[x] = 0;
+    }
   return layer;
 }
 

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "spinewatch/phantom/compression.hpp"
+
 namespace spinewatch::phantom {
 namespace {
 
@@ -35,6 +37,17 @@ Result<PhantomSequence> PhantomSequence::create(PhantomOptions options) {
     return Error{fmt::format("flicker: {} is out of range [0, 0.5]", options.flicker)};
   if (!(options.light_drift >= 0 && options.light_drift <= 0.6))
     return Error{fmt::format("light drift: {} is out of range [0, 0.6]", options.light_drift)};
+  if (!(options.heading_deg >= -360 && options.heading_deg <= 360))
+    return Error{fmt::format("heading: {} is out of range [-360, 360]", options.heading_deg)};
+  if (options.backdrop[0].empty() != options.backdrop[1].empty())
+    return Error{"backdrop: give a photograph for both views (frontal and lateral) or for neither"};
+  if (options.h264_crf && (*options.h264_crf < kMinCrf || *options.h264_crf > kMaxCrf))
+    return Error{fmt::format("h264: CRF {} is out of range [{}, {}]", *options.h264_crf, kMinCrf, kMaxCrf)};
+  if (options.station) {
+    auto rig = station_rig(*options.station);
+    if (!rig) return rig.error();
+    options.rig = std::move(rig).value();
+  }
   return PhantomSequence(std::move(options), *scenario, frames);
 }
 
@@ -44,14 +57,38 @@ PhantomSequence::PhantomSequence(PhantomOptions options, const Scenario& scenari
       person_frames_(person_frames),
       body_(options_.subject, posture_for(options_, scenario), options_.seed),
       passer_(Subject{}, SubjectPosture::Standing, options_.seed + 1),
-      renderers_{ViewRenderer(options_.rig.frontal, {kImageWidth, kImageHeight}, options_.seed, 0),
-                 ViewRenderer(options_.rig.lateral, {kImageWidth, kImageHeight}, options_.seed, 1)},
+      renderers_{ViewRenderer(options_.rig.frontal, {kImageWidth, kImageHeight}, options_.seed, 0, room(0)),
+                 ViewRenderer(options_.rig.lateral, {kImageWidth, kImageHeight}, options_.seed, 1, room(1))},
       sensor_(options_.seed, options_.noise_sigma, options_.flicker) {}
+
+Furniture PhantomSequence::furniture() const {
+  if (!options_.desk) return scenario_->furniture;
+  if (!*options_.desk) return Furniture::None;
+  if (scenario_->furniture != Furniture::None) return scenario_->furniture;
+  return posture_for(options_, *scenario_) == SubjectPosture::Seated ? Furniture::Desk : Furniture::Bench;
+}
+
+RoomSetup PhantomSequence::room(int view) const {
+  RoomSetup setup;
+  setup.kind = options_.room;
+  setup.backdrop = options_.backdrop[std::size_t(view)];
+  setup.furniture = furniture_boxes(furniture(), options_.heading_deg);
+  return setup;
+}
 
 std::optional<BodyPose> PhantomSequence::pose_at(int index) const {
   const int i = index - options_.empty_frames;
   if (i < 0) return std::nullopt;
-  return body_.pose(scenario_->motion(i, person_frames_));
+  const TrunkMotion motion = scenario_->motion(i, person_frames_);
+  std::optional<BodyPose> body;
+  if (scenario_->limbs) {
+    const LimbMotion limbs = scenario_->limbs(i, person_frames_);
+    body = body_.pose(motion, &limbs);
+  } else {
+    body = body_.pose(motion);
+  }
+  if (options_.heading_deg != 0) turn(*body, options_.heading_deg);
+  return body;
 }
 
 // The passer-by walks at 1.2 m/s along the wall side of the subject
@@ -160,11 +197,22 @@ nlohmann::json PhantomSequence::subject_json() const {
 }
 
 std::string PhantomSequence::notes() const {
-  return fmt::format(
+  std::string notes = fmt::format(
       "phantom scenario={} seed={} frames={} empty_frames={} noise={} flicker={} shadow={} light_drift={} passer_by={} "
       "colour={} camouflage={}",
       scenario_->name, options_.seed, person_frames_, options_.empty_frames, options_.noise_sigma, options_.flicker,
       options_.shadow, options_.light_drift, options_.passer_by, options_.colour, options_.camouflage);
+  // The newer options only when given: older recordings' notes stay as they were.
+  if (const auto& g = options_.station)
+    notes += fmt::format(" camera_tilt={} camera_roll={} pair_angle={} camera_height={}",
+                         g->tilt_deg ? fmt::format("{}", *g->tilt_deg) : "auto", g->roll_deg, g->pair_angle_deg,
+                         g->height_mm ? fmt::format("{}", *g->height_mm) : "auto");
+  if (options_.heading_deg != 0) notes += fmt::format(" heading={}", options_.heading_deg);
+  if (options_.room == RoomKind::Cluttered) notes += " room=cluttered";
+  if (!options_.backdrop[0].empty()) notes += " backdrop=photographs";
+  if (furniture() != Furniture::None) notes += furniture() == Furniture::Desk ? " furniture=desk" : " furniture=bench";
+  if (options_.h264_crf) notes += fmt::format(" h264_crf={}", *options_.h264_crf);
+  return notes;
 }
 
 FramePair grey_pair(const PhantomFrame& f) {

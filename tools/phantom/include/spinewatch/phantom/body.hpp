@@ -20,6 +20,8 @@ namespace spinewatch::phantom {
 // Grey levels of the clothing and skin; the renderer lightens each part's
 // core by kCoreLift, and colours each part by its shade (renderer.cpp).
 inline constexpr std::uint8_t kShirtShade = 68, kSleeveShade = 88, kTrousersShade = 48, kSkinShade = 140;
+// A carried box (cardboard): held by the person, so part of the person layer.
+inline constexpr std::uint8_t kBoxShade = 112;
 inline constexpr int kCoreLift = 12;
 
 struct Solid {
@@ -46,7 +48,10 @@ class BodyModel {
   const std::array<JointAngles, kJointCount>& joint_factors() const { return factors_; }
   const SpinePose& neutral() const { return neutral_; }
 
-  BodyPose pose(const TrunkMotion& motion) const;
+  // Without limbs, the rest pose the phantom has always drawn (and the
+  // legs stay where the neutral pose puts them); with limbs, each joint
+  // turned from rest and the legs carried by the sway (a step aside).
+  BodyPose pose(const TrunkMotion& motion, const LimbMotion* limbs = nullptr) const;
   // The spine's segmental motion for a whole-trunk motion: the spine's part
   // spread over the joints, and the pelvis rotating about the hip joints.
   SegmentalMotion segmental_motion(const TrunkMotion& motion) const;
@@ -55,6 +60,15 @@ class BodyModel {
   void add_trunk(const SpinePose& spine, std::vector<Solid>& out) const;
   void add_head_and_arms(const SpinePose& spine, std::vector<Solid>& out) const;
   void add_legs(std::vector<Solid>& out) const;
+  // The articulated versions (limbs.cpp).
+  void add_posed_head_and_arms(const SpinePose& spine, const LimbMotion& limbs, std::vector<Solid>& out) const;
+  void add_posed_legs(const LimbMotion& limbs, const Eigen::Vector3d& sway, std::vector<Solid>& out) const;
+  // Rest directions of one leg (side −1 left / +1 right): hip to knee, knee
+  // to ankle, and the foot's two ends from the ankle.
+  struct LegRest {
+    Eigen::Vector3d thigh, shin, heel, toe;
+  };
+  LegRest leg_rest(double side) const;
   Eigen::Vector3d hip_offset(double side) const;  // in the L5 frame, side −1 left / +1 right
 
   Subject subject_;
@@ -68,5 +82,10 @@ class BodyModel {
   std::array<JointAngles, kJointCount> shares_;  // each joint's share, renormalised
   SpinePose neutral_;
 };
+
+// The whole body turned about the world's vertical axis (through the
+// origin) by `heading_deg`, counter-clockwise seen from above: the spine
+// (the ground truth) and every solid. 180: the back to the frontal camera.
+void turn(BodyPose& body, double heading_deg);
 
 }  // namespace spinewatch::phantom

@@ -18,7 +18,9 @@
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/phantom/body.hpp"
 #include "spinewatch/phantom/renderer.hpp"
+#include "spinewatch/phantom/room.hpp"
 #include "spinewatch/phantom/scenario.hpp"
+#include "spinewatch/phantom/station.hpp"
 #include "spinewatch/phantom/subject.hpp"
 
 namespace spinewatch::phantom {
@@ -47,6 +49,22 @@ struct PhantomOptions {
   // tells the person from the scene.
   bool camouflage = false;
   CameraRig rig = CameraRig::default_rig();
+  // Station geometry (station.hpp): when given, the rig is built from it
+  // and `rig` above is not used.
+  std::optional<StationGeometry> station;
+  // Which way the subject faces, degrees counter-clockwise seen from above
+  // (180: the back to the frontal camera); the truth turns with the body.
+  double heading_deg = 0;
+  // The room: plain, cluttered, or a photograph per view (BGR, both or
+  // neither; load_backdrop reads one) scaled to cover the view.
+  RoomKind room = RoomKind::Plain;
+  std::array<cv::Mat, 2> backdrop;  // index: View
+  // The furniture in front of the subject (a desk when seated, a bench when
+  // standing): on or off; nothing: as the scenario has it.
+  std::optional<bool> desk;
+  // The frames of a written recording through H.264 at this CRF
+  // (compression.hpp); render() itself stays uncompressed.
+  std::optional<int> h264_crf;
 };
 
 struct PhantomFrame {
@@ -73,6 +91,8 @@ class PhantomSequence {
   static Result<PhantomSequence> create(PhantomOptions options);
 
   int frame_count() const { return options_.empty_frames + person_frames_; }
+  // The furniture standing in front of the subject in this recording.
+  Furniture furniture() const;
   int person_frames() const { return person_frames_; }
   const PhantomOptions& options() const { return options_; }
   const Scenario& scenario() const { return *scenario_; }
@@ -93,6 +113,7 @@ class PhantomSequence {
 
  private:
   PhantomSequence(PhantomOptions options, const Scenario& scenario, int person_frames);
+  RoomSetup room(int view) const;
   std::optional<BodyPose> pose_at(int index) const;  // nothing for an empty frame
   std::optional<BodyPose> passer_at(int index) const;  // nothing when out of the scene
   cv::Mat light(const cv::Mat& clean, int index) const;

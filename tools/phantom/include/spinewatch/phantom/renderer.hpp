@@ -8,19 +8,22 @@
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/phantom/body.hpp"
+#include "spinewatch/phantom/room.hpp"
 
 namespace spinewatch::phantom {
 
 class ViewRenderer {
  public:
-  // `seed` and `view_index` pick the scene's texture.
-  ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index);
+  // `seed` and `view_index` pick the scene's texture; `room` what the
+  // room holds beyond the plain wall and floor (room.hpp).
+  ViewRenderer(const CameraModel& camera, cv::Size size, std::uint32_t seed, int view_index, const RoomSetup& room = {});
 
   // The noise-free empty scene (CV_8U): a wall with a gradient and fixed
   // texture, the floor in front of it.
   const cv::Mat& background() const { return background_; }
   // The person alone (CV_8U): the shade of the nearest body part where the
-  // body covers a pixel, 0 elsewhere.
+  // body covers a pixel, 0 elsewhere — and where the room's furniture is
+  // nearer the camera than the part.
   cv::Mat person_layer(const BodyPose& body) const;
   // The noise-free scene with the person in it. `camouflage`: the
   // clothing and skin as bright as the wall behind them (only their colour
@@ -42,6 +45,8 @@ class ViewRenderer {
 
   CameraModel camera_;
   cv::Mat background_;     // CV_8U
+  cv::Mat furniture_depth_;  // CV_32F, camera z of the furniture (infinity: none); empty without furniture
+  cv::Rect furniture_box_;   // the pixels the furniture covers, bounding box
   cv::Mat background_chroma_;  // CV_32FC2
   cv::Mat cloth_texture_;  // CV_32F, a few grey levels either way
   // compose()'s float working images, kept from frame to frame: allocated
@@ -49,6 +54,7 @@ class ViewRenderer {
   // long phantom run under the sanitizers (docs/performance.md).
   struct Scratch {
     cv::Mat background, shade, weight, blurred, person;
+    cv::Mat part_depth;  // CV_32F over furniture_box_: the depth of the part drawn at each pixel
   };
   mutable Scratch scratch_;
 };
