@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "test_support.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/phantom/phantom.hpp"

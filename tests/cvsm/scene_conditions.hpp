@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "test_support.hpp"
 #include "phantom_run.hpp"
 #include "scene_run.hpp"
 #include "spinewatch/phantom/phantom.hpp"
