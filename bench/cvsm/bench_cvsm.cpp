@@ -168,6 +168,15 @@ void BM_PairSilhouettesAndFitRefineSteps(benchmark::State& state) {
   pair_silhouettes_and_fit(state, false, false, "flexion", options);
 }
 BENCHMARK(BM_PairSilhouettesAndFitRefineSteps)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+// The same with articulated limbs (config [cvsm] limbs = "articulated";
+// "fixed" by default): the trunk's search, the limbs' (trunk held), the
+// trunk's again (docs/cvsm.md, "Articulated limbs").
+void BM_PairSilhouettesAndFitArticulatedLimbs(benchmark::State& state) {
+  CvsmOptions options;
+  options.limbs = LimbMode::Articulated;
+  pair_silhouettes_and_fit(state, false, false, "flexion", options);
+}
+BENCHMARK(BM_PairSilhouettesAndFitArticulatedLimbs)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {
@@ -311,6 +320,56 @@ void BM_CostSearchCandidate(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(thin, c.points[i++ % c.points.size()]).total());
 }
 BENCHMARK(BM_CostSearchCandidate)->Unit(benchmark::kMicrosecond);
+
+// The model's control points at a pose (the pose already through the
+// spine's kinematics): the limbs neutral (arg 0, as without
+// articulation) and all turned (arg 1, the joints' chain).
+void BM_ControlPoints(benchmark::State& state) {
+  const BodyModel body = subject();
+  const SpinePose v = pose_vertebrae(body, generic_spine_spec(), bend(0.5));
+  LimbPose limbs;
+  if (state.range(0) != 0) {
+    for (auto& side : limbs.side) side = {30, 20, 40, 20, 10, 30};
+    limbs.head_flexion = limbs.head_lateral = limbs.head_turn = 10;
+  }
+  std::vector<Eigen::Vector3d> pts;
+  for (auto _ : state) {
+    control_points(body, v, pts, limbs);
+    benchmark::DoNotOptimize(pts.data());
+  }
+}
+BENCHMARK(BM_ControlPoints)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// What one candidate of the limbs' search costs: the trunk held, one
+// joint's angle changed per candidate (the incremental cache projects and
+// scans only that limb's rings and segments again), on the search's
+// outline and rows.
+void BM_CostLimbCandidate(benchmark::State& state) {
+  Candidates c;
+  const CvsmOptions defaults;
+  const BodyModel thin = thin_trunk(c.body, defaults.search_vertebra_step);
+  XorCost cost(c.rig, kW, kH);
+  cost.set_silhouettes(c.sf, c.sl);
+  cost.set_row_step(defaults.search_row_step);
+  const SpinePose v = pose_vertebrae(c.body, generic_spine_spec(), bend(0.5));
+  std::vector<std::vector<Eigen::Vector3d>> candidates;
+  for (int i = 0; i < 32; ++i) {
+    LimbPose limbs;
+    const double a = (i % 2 ? 6.0 : -6.0);
+    switch (i % 4) {
+      case 0: limbs.side[static_cast<std::size_t>(i / 4 % 2)].shoulder_flexion = a; break;
+      case 1: limbs.side[static_cast<std::size_t>(i / 4 % 2)].elbow = a; break;
+      case 2: limbs.side[static_cast<std::size_t>(i / 4 % 2)].hip_flexion = a; break;
+      default: limbs.head_flexion = a; break;
+    }
+    std::vector<Eigen::Vector3d> pts;
+    control_points(thin, v, pts, limbs);
+    candidates.push_back(std::move(pts));
+  }
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(cost.evaluate(thin, candidates[i++ % candidates.size()]).total());
+}
+BENCHMARK(BM_CostLimbCandidate)->Unit(benchmark::kMicrosecond);
 
 // What the outline refinement's passes cost on the full model, every other
 // row (CvsmOptions::refine_row_step), against a whole-pixel evaluation of

@@ -9,6 +9,7 @@
 //
 //   build/release/tests/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 1]
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,11 +26,15 @@ int main(int argc, char** argv) {
                                      "combined", "seated_flexion", "sway", "fast"};
   int local_budget = CvsmOptions{}.local_budget;
   int refine_steps = CvsmOptions{}.refine_steps;
+  std::map<std::string, LimbMode> limb_modes{{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}};
+  LimbMode limbs = CvsmOptions{}.limbs;
   app.add_option("--seeds", seeds, "first and last seed")->delimiter('-');
   app.add_option("--subjects", subjects, "config/subjects/<name>.json")->delimiter(',');
   app.add_option("--scenarios", scenarios, "phantom scenarios")->delimiter(',');
   app.add_option("--local-budget", local_budget, "CvsmOptions::local_budget");
   app.add_option("--refine-steps", refine_steps, "CvsmOptions::refine_steps (config [cvsm] refine_steps)");
+  app.add_option("--limbs", limbs, "fixed or articulated (config [cvsm] limbs)")
+      ->transform(CLI::CheckedTransformer(limb_modes, CLI::ignore_case));
   CLI11_PARSE(app, argc, argv);
   if (seeds.first > seeds.second) {
     std::fprintf(stderr, "--seeds %u-%u: the first seed is after the last\n", seeds.first, seeds.second);
@@ -39,6 +44,7 @@ int main(int argc, char** argv) {
   CvsmOptions options = test::generic_subject_options();  // the named phantom subjects (phantom_run.hpp)
   options.local_budget = local_budget;
   options.refine_steps = refine_steps;
+  options.limbs = limbs;
   int runs = 0, neck_over = 0, waist_over = 0;
   double worst = 0, neck_sum = 0, waist_sum = 0;
   for (unsigned seed = seeds.first; seed <= seeds.second; ++seed)

@@ -216,6 +216,18 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");
 }
 
+// cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
+// fit: tests/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
+TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).limbs, LimbMode::Fixed);
+  auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
+  ASSERT_TRUE(on) << on.error().message;
+  EXPECT_EQ(estimator_options(*on).limbs, LimbMode::Articulated);
+  auto bad = parse_config("[cvsm]\nlimbs = \"free\"\n", "s.toml");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated");
+}
+
 TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
   const EstimatorOptions unknown = estimator_options(*parse_config("", "s.toml"));
   EXPECT_EQ(unknown.worker, KnownWorker{}) << "by default the worker is not known";

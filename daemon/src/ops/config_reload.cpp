@@ -39,7 +39,7 @@ const std::vector<Field>& fields() {
       SW_FIELD(silhouette, shadow_ratio), SW_FIELD(silhouette, background_frontal),
       SW_FIELD(silhouette, background_lateral), SW_FIELD(silhouette, adapt_s), SW_FIELD(silhouette, adapt_margin_px),
       SW_FIELD(silhouette, relearn_empty_s), SW_FIELD(silhouette, bootstrap),
-      SW_FIELD(cvsm, model), SW_FIELD(cvsm, subject_frames), SW_FIELD(cvsm, lost_cost), SW_FIELD(cvsm, refine_steps),
+      SW_FIELD(cvsm, model), SW_FIELD(cvsm, subject_frames), SW_FIELD(cvsm, lost_cost), SW_FIELD(cvsm, refine_steps), SW_FIELD(cvsm, limbs),
       SW_FIELD(spine, model), SW_FIELD(spine, voxel_mm), SW_FIELD(spine, substeps),
       SW_FIELD(subject, stature_mm), SW_FIELD(subject, mass_kg), SW_FIELD(subject, c7_height_mm),
       SW_FIELD(subject, iliac_crest_height_mm), SW_FIELD(subject, height_mm), SW_FIELD(subject, spine_placement),

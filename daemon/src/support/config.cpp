@@ -162,6 +162,8 @@ const std::vector<Key>& keys() {
       int_key("cvsm.subject_frames", [](Config& c) -> int& { return c.cvsm.subject_frames; }, {0, 1000}),
       double_key("cvsm.lost_cost", [](Config& c) -> double& { return c.cvsm.lost_cost; }, {0.01, 2.0}),
       int_key("cvsm.refine_steps", [](Config& c) -> int& { return c.cvsm.refine_steps; }, {0, 4}),
+      enum_key<LimbMode>("cvsm.limbs", [](Config& c) -> LimbMode& { return c.cvsm.limbs; },
+               {{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}}),
 
       string_key("spine.model", [](Config& c) -> std::string& { return c.spine.model; }),
       double_key("spine.voxel_mm", [](Config& c) -> double& { return c.spine.voxel_mm; }, {0.25, 5.0}),

@@ -22,6 +22,7 @@ EstimatorOptions estimator_options(const Config& c) {
   o.subject_frames = c.cvsm.subject_frames;
   o.lost_cost = c.cvsm.lost_cost;
   o.refine_steps = c.cvsm.refine_steps;
+  o.limbs = c.cvsm.limbs;
   o.substeps = c.spine.substeps;
   o.voxel_mm = c.spine.voxel_mm;
   o.worker = known_worker(c.subject);

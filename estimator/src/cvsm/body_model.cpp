@@ -79,17 +79,41 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
   }
   for (const auto& part : spec.parts)
     if (part.chain == "shoulder") trunk_chain.push_back(add(part_plane(part, 1)));
+  // The head turns on the neck about the centre of its lowest ring (the
+  // neck's base); that ring stays with T1.
+  int head_planes = 0;
   for (const auto& part : spec.parts)
-    if (part.chain == "head") trunk_chain.push_back(add(part_plane(part, 1)));
+    if (part.chain == "head") {
+      ControlPlane p = part_plane(part, 1);
+      if (head_planes++ == 0) {
+        m.joints[static_cast<std::size_t>(JointId::Neck)] = {p.frame, p.offset, -1};
+      } else {
+        p.joint = static_cast<int>(JointId::Neck);
+      }
+      trunk_chain.push_back(add(p));
+    }
   m.chains.push_back(trunk_chain);
 
   for (double side : {1.0, -1.0}) {
     std::vector<const CvsmSpec::Part*> arm_parts;
     for (const auto& part : spec.parts)
       if (part.chain == "arm") arm_parts.push_back(&part);
+    const bool left = side < 0;
+    const auto shoulder = static_cast<int>(left ? JointId::ShoulderLeft : JointId::ShoulderRight);
+    const auto elbow = static_cast<int>(left ? JointId::ElbowLeft : JointId::ElbowRight);
+    const auto hip = static_cast<int>(left ? JointId::HipLeft : JointId::HipRight);
+    const auto knee_id = static_cast<int>(left ? JointId::KneeLeft : JointId::KneeRight);
     if (arm_parts.size() > 1) {  // one ring alone has no solid to fill
+      // The shoulder joint's and the elbow's rings carry the upper arm,
+      // the rest the forearm and hand; each turns about its ring's centre.
       std::vector<int> arm;
-      for (const auto* part : arm_parts) arm.push_back(add(part_plane(*part, side)));
+      for (std::size_t i = 0; i < arm_parts.size(); ++i) {
+        ControlPlane p = part_plane(*arm_parts[i], side);
+        if (i == 0) m.joints[static_cast<std::size_t>(shoulder)] = {p.frame, p.offset, -1};
+        if (i == 1) m.joints[static_cast<std::size_t>(elbow)] = {p.frame, p.offset, shoulder};
+        p.joint = i < 2 ? shoulder : elbow;
+        arm.push_back(add(p));
+      }
       m.chains.push_back(arm);
     }
 
@@ -97,9 +121,18 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
     for (const auto& part : spec.parts)
       if (part.chain == "leg") leg.push_back(&part);
     if (leg.size() < 2) continue;
+    // The thigh turns about the hip joint (the leg frame's origin), the
+    // shin about the knee ring's centre.
+    const int leg_frame = left ? kLegLeftFrame : kLegRightFrame;
+    m.joints[static_cast<std::size_t>(hip)] = {leg_frame, Eigen::Vector3d::Zero(), -1};
     if (shape.posture == SubjectPosture::Standing) {
       std::vector<int> chain;
-      for (const auto* part : leg) chain.push_back(add(part_plane(*part, side)));
+      for (std::size_t i = 0; i < leg.size(); ++i) {
+        ControlPlane p = part_plane(*leg[i], side);
+        if (i == 1) m.joints[static_cast<std::size_t>(knee_id)] = {leg_frame, p.offset, hip};
+        p.joint = i < 2 ? hip : knee_id;
+        chain.push_back(add(p));
+      }
       m.chains.push_back(chain);
     } else {
       // Seated: thigh forward and horizontal from the hip joint, shin down
@@ -114,6 +147,9 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
       knee_x.offset = Eigen::Vector3d(spec.thigh * H, 0, 0);
       knee.offset = knee_x.offset;
       ankle.offset = knee.offset + Eigen::Vector3d(0, -shin, 0);
+      top.joint = knee_x.joint = hip;
+      knee.joint = ankle.joint = knee_id;
+      m.joints[static_cast<std::size_t>(knee_id)] = {leg_frame, knee.offset, hip};
       m.chains.push_back({add(top), add(knee_x)});
       m.chains.push_back({add(knee), add(ankle)});
     }
@@ -154,7 +190,43 @@ SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const C
   return pose_spine(model.neutral, motion);
 }
 
-void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eigen::Vector3d>& out) {
+bool LimbPose::neutral() const {
+  for (const Side& s : side)
+    if (s.shoulder_flexion != 0 || s.shoulder_abduction != 0 || s.elbow != 0 || s.hip_flexion != 0 ||
+        s.hip_abduction != 0 || s.knee != 0)
+      return false;
+  return head_flexion == 0 && head_lateral == 0 && head_turn == 0;
+}
+
+Eigen::Matrix3d limb_joint_rotation(JointId joint, const LimbPose& limbs) {
+  using Turn = Eigen::AngleAxisd;
+  constexpr double kRad = M_PI / 180;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  const bool left = joint == JointId::ShoulderLeft || joint == JointId::ElbowLeft || joint == JointId::HipLeft ||
+                    joint == JointId::KneeLeft;
+  const LimbPose::Side& s = limbs.side[left ? 0 : 1];
+  const double outward = left ? -1 : 1;  // the side's +Z: abduction turns about −X on the right, +X on the left
+  switch (joint) {
+    case JointId::ShoulderLeft:
+    case JointId::ShoulderRight:
+      return (Turn(s.shoulder_flexion * kRad, z) * Turn(-outward * s.shoulder_abduction * kRad, x)).toRotationMatrix();
+    case JointId::ElbowLeft:
+    case JointId::ElbowRight:
+      return Turn(s.elbow * kRad, z).toRotationMatrix();
+    case JointId::HipLeft:
+    case JointId::HipRight:
+      return (Turn(s.hip_flexion * kRad, z) * Turn(-outward * s.hip_abduction * kRad, x)).toRotationMatrix();
+    case JointId::KneeLeft:
+    case JointId::KneeRight:
+      return Turn(-s.knee * kRad, z).toRotationMatrix();
+    case JointId::Neck:
+      return (Turn(-limbs.head_flexion * kRad, z) * Turn(limbs.head_lateral * kRad, x) * Turn(limbs.head_turn * kRad, y))
+          .toRotationMatrix();
+  }
+  return Eigen::Matrix3d::Identity();
+}
+
+void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eigen::Vector3d>& out, const LimbPose& limbs) {
   std::array<Eigen::Matrix3d, kFrameCount> R;
   std::array<Eigen::Vector3d, kFrameCount> c;
   for (std::size_t i = 0; i < kVertebraCount; ++i) {
@@ -164,10 +236,48 @@ void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eige
   R[kLegLeftFrame] = R[kLegRightFrame] = Eigen::Matrix3d::Identity();
   c[kLegLeftFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_left;
   c[kLegRightFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_right;
+  // Each joint's turn, its parents' included, as x → A·x + b in its
+  // frame, then into the world: (R·A)·x + (c + R·b). Only joints that
+  // turn (themselves or a parent): the others' planes are computed as
+  // without articulation, bit for bit.
+  std::array<Eigen::Matrix3d, kLimbJointCount> local_a, A;
+  std::array<Eigen::Vector3d, kLimbJointCount> local_b, b;
+  std::array<bool, kLimbJointCount> turned{};
+  if (!limbs.neutral()) {
+    for (std::size_t j = 0; j < kLimbJointCount; ++j) {  // parents come first in JointId
+      const Joint& joint = model.joints[j];
+      const Eigen::Matrix3d r = limb_joint_rotation(static_cast<JointId>(j), limbs);
+      const bool own = !r.isIdentity(0);
+      const bool parent = joint.parent >= 0 && turned[static_cast<std::size_t>(joint.parent)];
+      if (!own && !parent) continue;
+      Eigen::Matrix3d a = r;
+      Eigen::Vector3d t = joint.pivot - r * joint.pivot;
+      if (parent) {  // (a parent shares the child's frame)
+        const auto p = static_cast<std::size_t>(joint.parent);
+        t = local_a[p] * t + local_b[p];
+        a = local_a[p] * a;
+      }
+      local_a[j] = a;
+      local_b[j] = t;
+      const auto f = static_cast<std::size_t>(joint.frame);
+      A[j] = R[f] * a;
+      b[j] = c[f] + R[f] * t;
+      turned[j] = true;
+    }
+  }
   out.resize(model.local_points.size());
   for (std::size_t p = 0; p < model.planes.size(); ++p) {
     if (!model.in_chain[p]) continue;
-    const auto f = static_cast<std::size_t>(model.planes[p].frame);
+    const ControlPlane& plane = model.planes[p];
+    const auto f = static_cast<std::size_t>(plane.frame);
+    if (plane.joint >= 0 && turned[static_cast<std::size_t>(plane.joint)]) {
+      const auto j = static_cast<std::size_t>(plane.joint);
+      for (std::size_t k = 0; k < kControlPoints; ++k) {
+        const std::size_t i = p * kControlPoints + k;
+        out[i] = b[j] + A[j] * model.local_points[i];
+      }
+      continue;
+    }
     for (std::size_t k = 0; k < kControlPoints; ++k) {
       const std::size_t i = p * kControlPoints + k;
       out[i] = c[f] + R[f] * model.local_points[i];

@@ -28,8 +28,9 @@ PoseParams to_params(const CvsmPose& p) {
   return {total, p.lateral, p.twist, p.pelvis_flexion - kPelvisShare * total, p.pelvis_lateral,
           p.translation.x(), p.translation.y(), p.translation.z()};
 }
-CvsmPose to_pose(const PoseParams& a) {
+CvsmPose to_pose(const PoseParams& a, const LimbPose& limbs) {
   CvsmPose p;
+  p.limbs = limbs;
   p.pelvis_flexion = kPelvisShare * a[0] + a[3];
   p.flexion = a[0] - p.pelvis_flexion;
   p.lateral = a[1];
@@ -37,6 +38,73 @@ CvsmPose to_pose(const PoseParams& a) {
   p.pelvis_lateral = a[4];
   p.translation = {a[5], a[6], a[7]};
   return p;
+}
+
+// The limbs' search parameters, in degrees: per side (left, right) the
+// shoulder's flexion and abduction and the elbow, the hip's flexion and
+// abduction and the knee; then the head's flexion, lateral tilt and turn.
+constexpr std::size_t kLimbParams = 15;
+using LimbParams = std::array<double, kLimbParams>;
+
+LimbParams to_limb_params(const LimbPose& l) {
+  LimbParams a{};
+  for (std::size_t s = 0; s < 2; ++s) {
+    const LimbPose::Side& d = l.side[s];
+    const std::size_t o = 6 * s;
+    a[o + 0] = d.shoulder_flexion;
+    a[o + 1] = d.shoulder_abduction;
+    a[o + 2] = d.elbow;
+    a[o + 3] = d.hip_flexion;
+    a[o + 4] = d.hip_abduction;
+    a[o + 5] = d.knee;
+  }
+  a[12] = l.head_flexion;
+  a[13] = l.head_lateral;
+  a[14] = l.head_turn;
+  return a;
+}
+LimbPose to_limbs(const LimbParams& a) {
+  LimbPose l;
+  for (std::size_t s = 0; s < 2; ++s) {
+    LimbPose::Side& d = l.side[s];
+    const std::size_t o = 6 * s;
+    d.shoulder_flexion = a[o + 0];
+    d.shoulder_abduction = a[o + 1];
+    d.elbow = a[o + 2];
+    d.hip_flexion = a[o + 3];
+    d.hip_abduction = a[o + 4];
+    d.knee = a[o + 5];
+  }
+  l.head_flexion = a[12];
+  l.head_lateral = a[13];
+  l.head_turn = a[14];
+  return l;
+}
+
+// Where each angle may go from the model's neutral limbs (arms hanging,
+// elbows a little flexed; legs hanging or seated), degrees: the joints'
+// active ranges, so the search cannot fold a limb through the body.
+constexpr std::array<std::array<double, 2>, kLimbParams> kLimbRange{{
+    {-60, 180}, {-20, 170}, {-20, 140}, {-30, 120}, {-20, 60}, {-5, 140},  // left
+    {-60, 180}, {-20, 170}, {-20, 140}, {-30, 120}, {-20, 60}, {-5, 140},  // right
+    {-40, 45}, {-30, 30}, {-80, 80}}};                                      // head
+bool in_range(const LimbParams& a) {
+  for (std::size_t i = 0; i < kLimbParams; ++i)
+    if (a[i] < kLimbRange[i][0] || a[i] > kLimbRange[i][1]) return false;
+  return true;
+}
+
+// The model with the arms' chains left out (their planes stay, unused).
+BodyModel without_arms(const BodyModel& model) {
+  BodyModel m = model;
+  std::erase_if(m.chains, [&](const std::vector<int>& chain) {
+    const int j = model.planes[static_cast<std::size_t>(chain.front())].joint;
+    return j == static_cast<int>(JointId::ShoulderLeft) || j == static_cast<int>(JointId::ShoulderRight);
+  });
+  m.in_chain.assign(m.planes.size(), 0);
+  for (const auto& chain : m.chains)
+    for (const int p : chain) m.in_chain[static_cast<std::size_t>(p)] = 1;
+  return m;
 }
 
 }  // namespace
@@ -73,6 +141,11 @@ struct CvsmTracker::Impl {
   std::optional<cvsm_detail::SubjectEstimate> subject;  // during init and after
   BodyModel model;
   BodyModel search_model;  // the model the tracked search compares candidates on
+  // Articulated limbs: the search model without its arms, which the
+  // trunk's own search compares on (the arms' outline, wherever they are,
+  // then does not turn the trunk), and which one `evaluate_on` points at.
+  BodyModel armless_model;
+  const BodyModel* trunk_search_model = &search_model;
   Phase phase = Phase::Building;
   int init_frames = 0;  // pairs built into the model; a model exists once it is 1
   CvsmPose pose, previous;  // `previous`: the pose before `pose`, meaningful in Predicting only
@@ -86,9 +159,11 @@ struct CvsmTracker::Impl {
 
   XorCounts evaluate(const BodyModel& m, const CvsmPose& p, std::int64_t limit) {
     const SpinePose v = pose_vertebrae(m, spine, p);
-    control_points(m, v, points);
+    control_points(m, v, points, p.limbs);
     return cost->evaluate(m, points, limit);
   }
+  // The pose with these trunk parameters and the limbs held where they are.
+  CvsmPose trunk_pose(const PoseParams& a) const { return to_pose(a, pose.limbs); }
 
   // The hip joints stay where the subject stood or sat: moving them is
   // charged in pixels, so a bend is explained by the spine and pelvis
@@ -109,10 +184,25 @@ struct CvsmTracker::Impl {
     return kTranslationPxPerMm2 * d2 / cost->row_step();
   }
 
-  std::int64_t cost_of(const PoseParams& a, std::int64_t limit) {
-    const auto penalty = static_cast<std::int64_t>(translation_penalty(a));
+  // A limb the views cannot see (hidden behind the trunk, beyond the
+  // image's border) leaves the XOR flat along its angles: this small pull
+  // towards the neutral limbs settles it there instead of wherever the
+  // search last left it, and a limb that is seen outweighs it many times
+  // (an arm raised 60° moves some 200 search pixels; the pull costs 18).
+  // In the cost's sampled pixels, per degree².
+  static constexpr double kLimbPxPerDeg2 = 0.02;
+  double limb_penalty(const LimbPose& limbs) const {
+    if (opt.limbs != LimbMode::Articulated) return 0;
+    double sum = 0;
+    for (const double a : to_limb_params(limbs)) sum += a * a;
+    return kLimbPxPerDeg2 * sum / cost->row_step();
+  }
+
+  std::int64_t cost_of(const PoseParams& a, std::int64_t limit) { return cost_of(trunk_pose(a), a, limit); }
+  std::int64_t cost_of(const CvsmPose& p, const PoseParams& a, std::int64_t limit) {
+    const auto penalty = static_cast<std::int64_t>(translation_penalty(a) + limb_penalty(p.limbs));
     if (penalty >= limit) return penalty;
-    return evaluate(search_model, to_pose(a), limit - penalty).total() + penalty;
+    return evaluate(*trunk_search_model, p, limit - penalty).total() + penalty;
   }
 
   // The best of the candidates tried so far, each pruned against it.
@@ -146,8 +236,60 @@ struct CvsmTracker::Impl {
     const PoseParams step{2, 2, 2, 2, 1, 5, 3, 5};
     auto d = coordinate_descent(c.best, c.best_cost, step, 2, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
-    pose = to_pose(d.params);
+    pose = trunk_pose(d.params);
     return c.evaluations + d.evaluations;
+  }
+
+  // The articulated limbs, with the trunk held where its search left it:
+  // probes of each angle, then a coordinate descent over the fifteen
+  // (steps `step_deg`, then halved, only for what moved; `budget`
+  // evaluations beyond the probes). Returns the evaluations spent.
+  static constexpr std::array<double, 4> kLimbProbesDeg{20, -20, 10, -10};
+  int limb_search(int budget, double step_deg, int levels) {
+    if (opt.limbs != LimbMode::Articulated || budget <= 0) return 0;
+    const PoseParams trunk = to_params(pose);
+    CvsmPose candidate = pose;
+    auto limb_cost = [&](const LimbParams& l, std::int64_t limit) -> std::int64_t {
+      if (!in_range(l)) return INT64_MAX;
+      candidate.limbs = to_limbs(l);
+      return cost_of(candidate, trunk, limit);
+    };
+    LimbParams best = to_limb_params(pose.limbs);
+    std::int64_t best_cost = limb_cost(best, INT64_MAX);
+    int evaluations = 1;
+    // A limb is thin: its XOR falls only within about its own width of
+    // where it is (an arm 50 px long and 8 px wide: ±9°), and between
+    // there and where the model holds it, it may rise. So each angle first
+    // probes farther out, keeping the best, then the descent settles it.
+    for (std::size_t i = 0; i < kLimbParams; ++i)
+      for (const double probe : kLimbProbesDeg) {
+        LimbParams trial = best;
+        trial[i] += probe;
+        ++evaluations;
+        const std::int64_t c = limb_cost(trial, best_cost);
+        if (c < best_cost) {
+          best_cost = c;
+          best = trial;
+        }
+      }
+    LimbParams step;
+    step.fill(step_deg);
+    auto d = coordinate_descent(best, best_cost, step, levels, budget, limb_cost, true);
+    pose.limbs = to_limbs(d.params);
+    return evaluations + d.evaluations;
+  }
+
+  // The trunk again, the limbs held where their search left them: half
+  // the tracked search's steps, one level. Returns the evaluations spent.
+  int joint_refinement(int budget) {
+    if (opt.limbs != LimbMode::Articulated || budget <= 0) return 0;
+    const PoseParams start = to_params(pose);
+    const std::int64_t start_cost = cost_of(start, INT64_MAX);
+    const PoseParams step{1, 1, 1, 1, 0.5, 2.5, 1.5, 2.5};
+    auto d = coordinate_descent(start, start_cost, step, 1, budget - 1,
+                                [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
+    pose = trunk_pose(d.params);
+    return 1 + d.evaluations;
   }
 
   // The searches compare candidates on whole pixels, so the pose they
@@ -174,9 +316,9 @@ struct CvsmTracker::Impl {
       }
     PoseParams a = to_params(pose);
     const int scans = fit.refine(a, steps, [&](const PoseParams& p, std::vector<Eigen::Vector3d>& out) {
-      control_points(model, pose_vertebrae(model, spine, to_pose(p)), out);
+      control_points(model, pose_vertebrae(model, spine, trunk_pose(p)), out, pose.limbs);
     }, prior);
-    pose = to_pose(a);
+    pose = trunk_pose(a);
     return scans;
   }
 
@@ -196,7 +338,7 @@ struct CvsmTracker::Impl {
     const PoseParams step{8, 6, 8, 6, 4, 40, 20, 40};
     auto d = coordinate_descent(c.best, c.best_cost, step, 6, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); });
-    pose = to_pose(d.params);
+    pose = trunk_pose(d.params);
     return c.evaluations + d.evaluations;
   }
 
@@ -227,7 +369,7 @@ struct CvsmTracker::Impl {
     const std::int64_t kept = cost_of(a, INT64_MAX), other = cost_of(mirrored, INT64_MAX);
     candidates += 2;
     t.checked = true;
-    if (other < kept) pose = to_pose(mirrored);
+    if (other < kept) pose = trunk_pose(mirrored);
     t.margin_px = std::abs(other - kept);
     return t;
   }
@@ -307,6 +449,7 @@ struct CvsmTracker::Impl {
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
       search_model = thin_trunk(model, opt.search_vertebra_step);
+      armless_model = without_arms(search_model);
       pose = subject->pose;
       home = pose.translation;
       ++init_frames;
@@ -330,9 +473,19 @@ struct CvsmTracker::Impl {
     if (searched_globally) {
       anchored = false;
       candidates = global_search(opt.global_budget);
+      // The limbs from wherever they were, in wide steps, then the trunk
+      // again with them.
+      candidates += limb_search(2 * opt.limb_budget, 8, 3);
+      candidates += joint_refinement(opt.joint_budget);
       anchored = true;
     } else {
+      // Hierarchical: the trunk with the limbs held, the limbs with the
+      // trunk held, the trunk once more.
+      if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
       candidates = local_search(opt.local_budget);
+      trunk_search_model = &search_model;
+      candidates += limb_search(opt.limb_budget, 4, 2);
+      candidates += joint_refinement(opt.joint_budget);
     }
     const TwistCheck twist = check_twist_sign(candidates);
     // Refined as it was searched: after a global search, unanchored (the

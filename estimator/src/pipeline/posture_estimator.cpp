@@ -46,6 +46,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.subject_frames = o.subject_frames;
   c.lost_cost = o.lost_cost;
   c.refine_steps = o.refine_steps;
+  c.limbs = o.limbs;
   c.height_mm = o.height_mm;
   c.min_silhouette_px = o.min_blob_px;
   c.spine_placement = o.spine_placement;

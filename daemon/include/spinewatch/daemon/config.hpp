@@ -9,6 +9,7 @@
 
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/anatomy/worker.hpp"
+#include "spinewatch/estimator/cvsm/limb_mode.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/frames/pixel_format.hpp"
 #include "spinewatch/frames/result.hpp"
@@ -86,6 +87,7 @@ struct Config {
     int subject_frames = 10;   // upright frames used to build the subject's model
     double lost_cost = 0.35;   // cost above which tracking is lost
     int refine_steps = 0;     // outline refinement of each fit: Gauss–Newton steps, 0 = off
+    LimbMode limbs = LimbMode::Fixed;  // "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs")
     bool operator==(const Cvsm&) const = default;
   } cvsm;
 

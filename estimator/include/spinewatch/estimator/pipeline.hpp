@@ -11,6 +11,7 @@
 #include "spinewatch/estimator/anatomy/worker.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/cvsm/limb_mode.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
@@ -53,6 +54,7 @@ struct EstimatorOptions {
   int subject_frames = 10;
   double lost_cost = 0.35;
   int refine_steps = 0;  // CvsmOptions::refine_steps
+  LimbMode limbs = LimbMode::Fixed;  // CvsmOptions::limbs
   // Models (config [cvsm] model, [spine] model): nothing = the generic
   // ones built in. The caller reads and parses the files (no I/O here).
   std::optional<CvsmSpec> cvsm_model;

@@ -75,8 +75,22 @@ struct ControlPlane {
   bool axis_x = false;
   double half_width = 0, front = 0, back = 0;  // mm
   bool vertebra = false;      // the ring of one of the spheres T1…L5
+  int joint = -1;             // the limb joint that turns it (JointId), -1: none
 };
 inline constexpr int kLegLeftFrame = 17, kLegRightFrame = 18, kFrameCount = 19;
+
+// The articulated limbs' joints (docs/cvsm.md, "Articulated limbs"). A
+// plane turned by a joint turns with its parent too (the forearm with the
+// upper arm, the shin with the thigh).
+enum class JointId : std::uint8_t {
+  ShoulderLeft, ElbowLeft, ShoulderRight, ElbowRight, HipLeft, KneeLeft, HipRight, KneeRight, Neck
+};
+inline constexpr std::size_t kLimbJointCount = 9;
+struct Joint {
+  int frame = 0;                   // the frame its pivot is given in (the plane's)
+  Eigen::Vector3d pivot{0, 0, 0};  // in that frame, mm
+  int parent = -1;                 // the joint whose turn carries this one, -1: none
+};
 
 // The subject-specific model: control planes and chains (indices into
 // planes, adjacent entries bound one solid segment).
@@ -91,19 +105,42 @@ struct BodyModel {
   // Per plane, whether a chain uses it: all of them in a built model, not
   // the skipped vertebra rings in a thinned one. Set with the chains.
   std::vector<std::uint8_t> in_chain;
+  std::array<Joint, kLimbJointCount> joints{};  // pivots at the neutral limbs
 };
 
 // neutral L5 body centre: (x, l5_height_fraction·H or seat, z).
 BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const BodyShape& shape,
                            const Eigen::Vector3d& l5_center);
 
+// The limbs and the head, turned from where the model holds them
+// (arms hanging slightly abducted with the elbows a little flexed; legs
+// hanging, or the seated thigh forward and shin down), degrees. Frames:
+// X anterior, Y up, Z right. All zero: the model as built, every point
+// computed as without articulation.
+struct LimbPose {
+  struct Side {
+    double shoulder_flexion = 0;    // the arm raised forward (about Z)
+    double shoulder_abduction = 0;  // the arm raised to the side (about the body's X, outward positive)
+    double elbow = 0;               // the forearm turned forward about the elbow
+    double hip_flexion = 0;         // the thigh forward
+    double hip_abduction = 0;       // the leg out to the side
+    double knee = 0;                // the shin back about the knee
+  };
+  std::array<Side, 2> side{};  // [0] left, [1] right
+  double head_flexion = 0;     // nod forward, about the neck's base
+  double head_lateral = 0;     // tilt to the right
+  double head_turn = 0;        // turn about the neck (to the subject's left positive: about +Y)
+  bool neutral() const;
+};
+
 // The primitive deformations: whole-spine flexion/extension, lateral
 // bending and axial twist spread over the levels by range of motion
-// (distribute()), pelvis tilt and translation.
+// (distribute()), pelvis tilt and translation; and the limbs.
 struct CvsmPose {
   double flexion = 0, lateral = 0, twist = 0;      // degrees, whole spine
   double pelvis_flexion = 0, pelvis_lateral = 0;   // degrees, about the hip joints
   Eigen::Vector3d translation{0, 0, 0};            // mm, of the hip joints (and L5) from neutral
+  LimbPose limbs;                                   // articulated limbs ([cvsm] limbs = "articulated")
 };
 
 // The same model with only every `keep`-th vertebra ring in the trunk
@@ -114,7 +151,10 @@ BodyModel thin_trunk(const BodyModel& model, int keep);
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
 // World control points (planes.size() × kControlPoints) of the planes the
 // model's chains use (in a thinned model the skipped rings are left as
-// they were).
-void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out);
+// they were), the limbs turned by `limbs`.
+void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out,
+                    const LimbPose& limbs = {});
+// Each joint's turn alone, in its frame (tests: the reference chain).
+Eigen::Matrix3d limb_joint_rotation(JointId joint, const LimbPose& limbs);
 
 }  // namespace spinewatch

@@ -1,0 +1,12 @@
+#pragma once
+#include <cstdint>
+
+namespace spinewatch {
+
+// How the CVSM fit models the limbs and the head (config [cvsm] limbs):
+// held where the template puts them (arms hanging, legs straight or
+// seated), or articulated and searched per pair after the trunk
+// (docs/cvsm.md, "Articulated limbs").
+enum class LimbMode : std::uint8_t { Fixed, Articulated };
+
+}  // namespace spinewatch

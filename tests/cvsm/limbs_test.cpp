@@ -1,0 +1,256 @@
+// Articulated limbs ([cvsm] limbs = "articulated"): the joints' chain
+// against a reference that composes each joint's turn about its pivot
+// explicitly, and the tracker on silhouettes drawn from a model of another
+// subject who raises his arms, steps and nods while bending: the
+// articulated fit keeps the trunk where the fixed one is pulled off, and
+// finds the limbs it can see.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "cvsm_fixtures.hpp"
+#include "spinewatch/estimator/cvsm/tracker.hpp"
+
+namespace spinewatch {
+namespace {
+
+// Turn about a pivot, as an isometry.
+Eigen::Isometry3d turn_about(const Eigen::Vector3d& pivot, const Eigen::Matrix3d& r) {
+  return Eigen::Translation3d(pivot) * Eigen::Isometry3d(r) * Eigen::Translation3d(-pivot);
+}
+
+// The reference: a plane's world point through its frame's pose and the
+// chain of joints from the root down, each an explicit isometry.
+Eigen::Vector3d reference_point(const BodyModel& m, const SpinePose& v, const LimbPose& limbs, std::size_t plane, int k) {
+  const ControlPlane& p = m.planes[plane];
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  if (p.frame < static_cast<int>(kVertebraCount)) {
+    frame = Eigen::Translation3d(v[static_cast<std::size_t>(p.frame)].body_center) * v[static_cast<std::size_t>(p.frame)].q;
+  } else {
+    const Eigen::Vector3d hip = p.frame == kLegLeftFrame ? m.hip_left : m.hip_right;
+    frame = Eigen::Translation3d(v[kWaistIndex].body_center + v[kWaistIndex].q * hip);
+  }
+  Eigen::Isometry3d chain = Eigen::Isometry3d::Identity();
+  for (int j = p.joint; j >= 0; j = m.joints[static_cast<std::size_t>(j)].parent)
+    chain = turn_about(m.joints[static_cast<std::size_t>(j)].pivot, limb_joint_rotation(static_cast<JointId>(j), limbs)) * chain;
+  return frame * (chain * m.local_points[plane * kControlPoints + static_cast<std::size_t>(k)]);
+}
+
+LimbPose random_limbs(std::mt19937& rng) {
+  std::uniform_real_distribution<double> angle(-60, 60);
+  LimbPose l;
+  for (auto& s : l.side) {
+    s.shoulder_flexion = angle(rng);
+    s.shoulder_abduction = angle(rng);
+    s.elbow = angle(rng);
+    s.hip_flexion = angle(rng);
+    s.hip_abduction = angle(rng);
+    s.knee = angle(rng);
+  }
+  l.head_flexion = angle(rng);
+  l.head_lateral = angle(rng);
+  l.head_turn = angle(rng);
+  return l;
+}
+
+TEST(CvsmLimbs, ControlPointsFollowTheReferenceChain) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> bend_deg(-20, 40);
+  for (const SubjectPosture posture : {SubjectPosture::Standing, SubjectPosture::Seated}) {
+    const BodyModel m = other_subject(posture);
+    for (int trial = 0; trial < 20; ++trial) {
+      CvsmPose pose = bend(bend_deg(rng), bend_deg(rng) / 2, bend_deg(rng) / 3);
+      pose.limbs = random_limbs(rng);
+      const SpinePose v = pose_vertebrae(m, generic_spine_spec(), pose);
+      std::vector<Eigen::Vector3d> pts;
+      control_points(m, v, pts, pose.limbs);
+      for (std::size_t p = 0; p < m.planes.size(); ++p)
+        for (int k = 0; k < kControlPoints; ++k)
+          ASSERT_LT((pts[p * kControlPoints + static_cast<std::size_t>(k)] - reference_point(m, v, pose.limbs, p, k)).norm(), 1e-9)
+              << "plane " << p << " point " << k << " trial " << trial;
+    }
+  }
+}
+
+// Every plane a joint turns has one; a limb not turned is drawn bit for
+// bit as without articulation, and a joint's own ring turns about its
+// centre (the pivot stays put).
+TEST(CvsmLimbs, OnlyTheTurnedLimbMoves) {
+  const BodyModel m = other_subject();
+  int arm = 0, leg = 0, head = 0;
+  for (const ControlPlane& p : m.planes) {
+    if (p.joint < 0) continue;
+    const auto j = static_cast<JointId>(p.joint);
+    arm += j == JointId::ShoulderLeft || j == JointId::ElbowLeft || j == JointId::ShoulderRight || j == JointId::ElbowRight;
+    leg += j == JointId::HipLeft || j == JointId::KneeLeft || j == JointId::HipRight || j == JointId::KneeRight;
+    head += j == JointId::Neck;
+  }
+  EXPECT_EQ(arm, 8);   // 4 rings an arm
+  EXPECT_EQ(leg, 6);   // 3 a leg
+  EXPECT_EQ(head, 4);  // the head above the neck's base
+  const SpinePose v = pose_vertebrae(m, generic_spine_spec(), bend(20, 5, 3));
+  std::vector<Eigen::Vector3d> still, raised;
+  control_points(m, v, still);
+  LimbPose l;
+  l.side[1].shoulder_flexion = 90;  // the right arm forward
+  control_points(m, v, raised, l);
+  const int shoulder = static_cast<int>(JointId::ShoulderRight), elbow = static_cast<int>(JointId::ElbowRight);
+  for (std::size_t p = 0; p < m.planes.size(); ++p) {
+    const int j = m.planes[p].joint;
+    const bool moves = j == shoulder || j == elbow;
+    for (std::size_t k = 0; k < kControlPoints; ++k) {
+      const std::size_t i = p * kControlPoints + k;
+      if (!moves) {
+        EXPECT_EQ(raised[i], still[i]) << "plane " << p;
+      }
+    }
+  }
+  // The hand ends up in front of the shoulder, near its height.
+  const auto right_hand = [&](const std::vector<Eigen::Vector3d>& pts) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    std::size_t last = 0;
+    for (std::size_t p = 0; p < m.planes.size(); ++p)
+      if (m.planes[p].joint == elbow) last = p;
+    for (std::size_t k = 0; k < kControlPoints; ++k) c += pts[last * kControlPoints + k];
+    return Eigen::Vector3d(c / kControlPoints);
+  };
+  const Eigen::Vector3d before = right_hand(still), after = right_hand(raised);
+  EXPECT_GT(after.y() - before.y(), 400);  // raised by most of the arm's length
+}
+
+struct RunErrors {
+  double neck_mean = 0, waist_mean = 0, neck_max = 0, waist_max = 0;
+  int lost = 0, frames = 0;
+  LimbPose last_limbs;
+};
+
+CvsmOptions options_for(LimbMode limbs) {
+  CvsmOptions o;
+  o.spine_placement = SpinePlacementMode::Generic;
+  o.limbs = limbs;
+  return o;
+}
+
+RunErrors run(LimbMode limbs, const BodyModel& subject, const std::vector<CvsmPose>& poses) {
+  const CameraRig rig = CameraRig::default_rig();
+  CvsmTracker tracker(rig, options_for(limbs));
+  RunErrors e;
+  for (const CvsmPose& p : poses) {
+    const Views v = render(rig, subject, p);
+    const CvsmResult r = tracker.track(v.frontal, v.lateral);
+    if (r.state == TrackingState::Init) continue;
+    ++e.frames;
+    if (r.state == TrackingState::Lost) {
+      ++e.lost;
+      continue;
+    }
+    const SpinePose truth = pose_vertebrae(subject, generic_spine_spec(), p);
+    const double dn = (r.neck - truth[kNeckIndex].body_center).norm();
+    const double dw = (r.waist - truth[kWaistIndex].body_center).norm();
+    e.neck_mean += dn;
+    e.waist_mean += dw;
+    e.neck_max = std::max(e.neck_max, dn);
+    e.waist_max = std::max(e.waist_max, dw);
+    e.last_limbs = r.pose.limbs;
+    if (std::getenv("SPINEWATCH_LIMBS_TRACE"))
+      std::printf("%d neck %.1f waist %.1f cost %.3f cand %d | T %.1f/%.1f lat %.1f/%.1f tw %.1f | rsf %.0f/%.0f lab %.0f/%.0f lel %.0f/%.0f rhf %.0f/%.0f rk %.0f/%.0f hf %.0f/%.0f ht %.0f/%.0f lhf %.0f\n",
+                  e.frames, dn, dw, r.fit.cost, r.fit.candidates.value_or(0), r.pose.flexion + r.pose.pelvis_flexion,
+                  p.flexion + p.pelvis_flexion, r.pose.lateral, p.lateral, r.pose.twist, r.pose.limbs.side[1].shoulder_flexion,
+                  p.limbs.side[1].shoulder_flexion, r.pose.limbs.side[0].shoulder_abduction, p.limbs.side[0].shoulder_abduction,
+                  r.pose.limbs.side[0].elbow, p.limbs.side[0].elbow, r.pose.limbs.side[1].hip_flexion, p.limbs.side[1].hip_flexion,
+                  r.pose.limbs.side[1].knee, p.limbs.side[1].knee, r.pose.limbs.head_flexion, p.limbs.head_flexion,
+                  r.pose.limbs.head_turn, p.limbs.head_turn, r.pose.limbs.side[0].hip_flexion);
+  }
+  const int ok = std::max(1, e.frames - e.lost);
+  e.neck_mean /= ok;
+  e.waist_mean /= ok;
+  return e;
+}
+
+// Ten upright frames (the subject model), then a forward and side bend
+// while the right arm rises forward, the left arm out to the side with the
+// elbow bent, the right leg steps forward and the head nods and turns;
+// held at the end.
+std::vector<CvsmPose> reach_and_step() {
+  std::vector<CvsmPose> poses(10, CvsmPose{});
+  for (int i = 0; i <= 30; ++i) {
+    const double s = std::min(1.0, i / 24.0);
+    CvsmPose p = bend(25 * s, 8 * s, 0);
+    p.limbs.side[1].shoulder_flexion = 90 * s;
+    p.limbs.side[0].shoulder_abduction = 60 * s;
+    p.limbs.side[0].elbow = 40 * s;
+    p.limbs.side[1].hip_flexion = 30 * s;
+    p.limbs.side[1].knee = 30 * s;
+    p.limbs.head_flexion = 20 * s;
+    p.limbs.head_turn = 30 * s;
+    poses.push_back(p);
+  }
+  return poses;
+}
+
+TEST(CvsmLimbs, ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff) {
+  const BodyModel subject = other_subject();
+  const std::vector<CvsmPose> poses = reach_and_step();
+  const RunErrors fixed = run(LimbMode::Fixed, subject, poses);
+  const RunErrors articulated = run(LimbMode::Articulated, subject, poses);
+  std::printf("reach and step, fixed limbs: neck mean %.1f max %.1f, waist mean %.1f max %.1f mm, lost %d of %d\n",
+              fixed.neck_mean, fixed.neck_max, fixed.waist_mean, fixed.waist_max, fixed.lost, fixed.frames);
+  std::printf("reach and step, articulated: neck mean %.1f max %.1f, waist mean %.1f max %.1f mm, lost %d of %d\n",
+              articulated.neck_mean, articulated.neck_max, articulated.waist_mean, articulated.waist_max,
+              articulated.lost, articulated.frames);
+  const LimbPose& l = articulated.last_limbs;
+  std::printf("limbs at the end (truth): right shoulder flexion %.0f (90), left abduction %.0f (60), left elbow %.0f (40), "
+              "right hip %.0f (30), right knee %.0f (30), head flexion %.0f (20), turn %.0f (30); left hip %.0f (0)\n",
+              l.side[1].shoulder_flexion, l.side[0].shoulder_abduction, l.side[0].elbow, l.side[1].hip_flexion,
+              l.side[1].knee, l.head_flexion, l.head_turn, l.side[0].hip_flexion);
+  // The fixed model explains the raised arm, the step and the nod by
+  // turning and bending the trunk, and loses track (measured: neck 20.3,
+  // waist 12.9 mm mean, 11 of 32 pairs lost); the articulated one keeps
+  // the trunk (6.3 / 5.4 mm, none lost).
+  EXPECT_GT(fixed.lost, 3);
+  EXPECT_GT(fixed.neck_mean, articulated.neck_mean + 8);
+  EXPECT_GT(fixed.waist_mean, articulated.waist_mean + 4);
+  EXPECT_EQ(articulated.lost, 0);
+  EXPECT_LT(articulated.neck_mean, 10.0);
+  EXPECT_LT(articulated.waist_mean, 8.0);
+  EXPECT_LT(articulated.neck_max, 20.0);
+  EXPECT_LT(articulated.waist_max, 20.0);
+  // What both views show: the right arm raised forward, the head's nod and
+  // turn. (The legs are cut at the knee's height by this rig: which one
+  // stepped is not resolved; the left arm out to the side with the elbow
+  // bent is not found either; docs/cvsm.md.)
+  EXPECT_NEAR(l.side[1].shoulder_flexion, 90, 10);
+  EXPECT_NEAR(l.head_flexion, 20, 10);
+  EXPECT_NEAR(l.head_turn, 30, 10);
+}
+
+// The self-consistency bend of cvsm_test (limbs still): what articulating
+// the limbs costs where they do not move.
+TEST(CvsmLimbs, ArticulatedOnABendWithTheLimbsStill) {
+  const BodyModel subject = other_subject();
+  std::vector<CvsmPose> poses(10, CvsmPose{});
+  for (int i = 0; i <= 40; ++i) {
+    const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);
+    poses.push_back(bend(50 * s, 12 * s, 6 * s));
+  }
+  const RunErrors fixed = run(LimbMode::Fixed, subject, poses);
+  const RunErrors articulated = run(LimbMode::Articulated, subject, poses);
+  std::printf("bend, limbs still: fixed neck %.1f waist %.1f mm; articulated neck %.1f waist %.1f mm (max %.1f / %.1f), lost %d\n",
+              fixed.neck_mean, fixed.waist_mean, articulated.neck_mean, articulated.waist_mean, articulated.neck_max,
+              articulated.waist_max, articulated.lost);
+  // Measured: fixed 5.9 / 4.6 mm, articulated 10.4 / 10.7 mm (max 19.0 /
+  // 17.7): the limbs' freedom explains some of the trunk's residual (why
+  // "fixed" stays the default; docs/cvsm.md, "Articulated limbs"). It
+  // still tracks the bend throughout.
+  EXPECT_EQ(articulated.lost, 0);
+  EXPECT_LT(articulated.neck_mean, 15.0);
+  EXPECT_LT(articulated.waist_mean, 15.0);
+  EXPECT_LT(articulated.neck_max, 30.0);
+  EXPECT_LT(articulated.waist_max, 30.0);
+}
+
+}  // namespace
+}  // namespace spinewatch
