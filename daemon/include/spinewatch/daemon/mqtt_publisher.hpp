@@ -42,8 +42,9 @@ struct MqttOptions {
 // [mqtt] → options, nothing when url is "". Reads password_file (refused
 // when group or others may read it) and checks that the TLS files can be
 // read, so that a mistake stops the daemon at start with the key named.
-// An empty outbox_path is $STATE_DIRECTORY/mqtt-outbox.db (systemd's
-// StateDirectory), else /var/lib/spinewatch/mqtt-outbox.db.
+// An empty outbox_path is mqtt-outbox.db in the state directory:
+// $STATE_DIRECTORY (systemd), else /var/lib/spinewatch when writable, else
+// the user's $XDG_STATE_HOME/spinewatch or ~/.local/state/spinewatch.
 Result<std::optional<MqttOptions>> mqtt_options(const Config& config);
 
 struct MqttStats {
