@@ -75,7 +75,7 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   ASSERT_EQ(result_->exit_code, 0) << result_->output;
   test::TempDir dir;
   ASSERT_TRUE(save_calibration(dir / "truth.yaml", truth()));
-  auto rendered = test::run_cli("phantom --scenario flexion --frames 60 --empty-frames 10 --calibration " +
+  auto rendered = test::run_cli("phantom --subject generic --scenario flexion --frames 60 --empty-frames 10 --calibration " +
                                 (dir / "truth.yaml").string() + " --out " + (dir / "rec").string());
   ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
   // Replays with the true and the recovered calibration, without and with

@@ -16,7 +16,7 @@ using test::read_ndjson;
 TEST(ReplaySummaries, IntervalsOfTheConfiguredLengthThenTheShiftValidAgainstTheSchema) {
   test::TempDir dir;
   // 90 person frames after 10 empty ones: 3.33 s; flexion 0 → 50° → 0.
-  auto r = test::run_cli("phantom --scenario flexion --frames 90 --seed 3 --out " + (dir / "rec").string());
+  auto r = test::run_cli("phantom --subject generic --scenario flexion --frames 90 --seed 3 --out " + (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<int, std::vector<nlohmann::json>> by_interval;
   for (const std::string interval_s : {"1", "2"}) {

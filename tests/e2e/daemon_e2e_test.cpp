@@ -22,7 +22,7 @@ class DaemonE2E : public ::testing::Test {
  protected:
   std::filesystem::path make_recording(int frames, int empty_frames = 2) {
     const auto rec = dir / "rec";
-    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames " + std::to_string(frames) +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames " + std::to_string(frames) +
                            " --empty-frames " + std::to_string(empty_frames) + " --out '" + rec.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return rec;

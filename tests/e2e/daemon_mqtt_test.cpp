@@ -38,7 +38,7 @@ class DaemonMqtt : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     recording_dir_ = new test::TempDir();
-    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames 60 --empty-frames 2 --out '" +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames 60 --empty-frames 2 --out '" +
                            (*recording_dir_ / "rec").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     test::write_file(*recording_dir_ / "rules.toml", kQuickRules);

@@ -635,7 +635,7 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
     if (!truth) return truth.error();
     if (*truth) {
       d.truth.emplace(std::move(**truth));
-      spdlog::info("{}: has ground truth; /state and the live view show how far off the estimate is",
+      spdlog::info("{}: has ground truth: how far off the estimate is goes to /state (\"truth\") and the page",
                    plan->recording.string());
     }
   }
