@@ -204,6 +204,15 @@ TEST(FirstMistake, AnAnsurSubjectOutsideTheCloneNamesTheVariable) {
       << r.output;
 }
 
+// libcamera's "No IPA found" (no image-processing modules installed) is no
+// warning for a user listing devices: it is said once, in words, at info.
+TEST(Cli, DevicesPrintsNoLibcameraWarningAboutIpaModules) {
+  const auto r = test::run_cli("devices");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(contains(r.output, "WARN IPAManager")) << r.output;
+  EXPECT_FALSE(contains(r.output, "No IPA found")) << r.output;
+}
+
 TEST(Cli, HelpGroupsTheStationsCommandsApartFromResearchOnes) {
   const auto r = test::run_cli("--help");
   ASSERT_EQ(r.exit_code, 0);
