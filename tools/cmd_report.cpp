@@ -1,5 +1,5 @@
 // spinewatch report: an exposure report over a time range of what a station
-// stored (interfaces.md §4; docs/exposure.md): DIR/report.html (inline SVG,
+// stored (docs/interfaces.md §4; docs/exposure.md): DIR/report.html (inline SVG,
 // nothing external) and DIR/summaries.csv.
 #include <filesystem>
 #include <memory>

@@ -1,5 +1,5 @@
 // spinewatch replay / eval on phantom recordings: the stream contract
-// (interfaces.md §3–§4), pairing of unequal streams, and bad input.
+// (docs/interfaces.md §3–§4), pairing of unequal streams, and bad input.
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -21,7 +21,7 @@ using test::LineClient;
 class DaemonBackground : public ::testing::Test {
  protected:
   // A phantom subject in view from the first frame; its recording carries
-  // no background (interfaces.md §2: normal input).
+  // no background (docs/interfaces.md §2: normal input).
   std::filesystem::path subject_in_view(int frames) {
     const auto rec = dir / "rec";
     auto r = test::run_cli("--log-level warn phantom --subject generic --scenario sway --empty-frames 0 --frames " +

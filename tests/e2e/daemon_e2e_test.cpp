@@ -80,7 +80,7 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
   // seq rises by one per line, except where the pipeline dropped pairs it
   // could not keep up with (a slow build, the subject model's first frame):
   // every missing seq is a dropped pair, counted by the time the line after
-  // the gap is written (interfaces.md §3).
+  // the gap is written (docs/interfaces.md §3).
   for (auto* lines : {&lines_a, &lines_b}) {
     std::uint64_t previous = nlohmann::json::parse((*lines)[1]).at("seq").get<std::uint64_t>(), missing = 0;
     for (std::size_t i = 2; i < lines->size(); ++i) {

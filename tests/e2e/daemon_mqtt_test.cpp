@@ -1,4 +1,4 @@
-// spinewatchd and a real MQTT broker (docs/fleet.md; interfaces.md §7):
+// spinewatchd and a real MQTT broker (docs/fleet.md; docs/interfaces.md §7):
 // Debian's mosquitto on loopback at a free port, a libmosquitto subscriber.
 // The documented topics carry schema-valid payloads; status turns offline
 // when the daemon is SIGKILLed; a 30 s broker outage loses no summary or

@@ -84,7 +84,7 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
 
   auto drain = [&]() -> Status {
     while (auto pair = pairer.pop()) {
-      // In replay, seq is the pair's sequence number in the recording (interfaces.md §3).
+      // In replay, seq is the pair's sequence number in the recording (docs/interfaces.md §3).
       pair->sequence = pair->frontal.sequence();
       const auto start = std::chrono::steady_clock::now();
       Posture posture = estimator.process(*pair);

@@ -1,5 +1,5 @@
 #pragma once
-// Publishes the station to the site's MQTT broker (interfaces.md §7,
+// Publishes the station to the site's MQTT broker (docs/interfaces.md §7,
 // docs/fleet.md) on a thread of its own, with libmosquitto:
 //   spinewatch/<station>/status   retained "online"; "offline" as the last will
 //   spinewatch/<station>/summary  summary lines, QoS 1, through the outbox

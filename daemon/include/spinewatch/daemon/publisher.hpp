@@ -1,6 +1,6 @@
 #pragma once
 // Publishes NDJSON lines to every client of a TCP port and a Unix socket,
-// on its own Boost.Asio thread (interfaces.md §5). Each client gets the hello
+// on its own Boost.Asio thread (docs/interfaces.md §5). Each client gets the hello
 // line first, then every published line in order. A client that does not
 // keep up overflows its bounded queue and is dropped; what clients send is
 // cut into lines for the command handler (or thrown away without one), and

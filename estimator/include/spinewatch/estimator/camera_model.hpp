@@ -1,6 +1,6 @@
 #pragma once
 // Pinhole camera with OpenCV's distortion model and conventions
-// (interfaces.md §2): x_cam = R · X_world + t, millimetres.
+// (docs/interfaces.md §2): x_cam = R · X_world + t, millimetres.
 #include <array>
 #include <string_view>
 #include <filesystem>
