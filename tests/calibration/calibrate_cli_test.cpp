@@ -127,7 +127,7 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   EXPECT_GT(plain.tracked, 50);
   EXPECT_GT(fine.tracked, 50);
   // The issue asks for 1 mm. Measured: 6.1 mm apart on average, 17 mm at
-  // most; with the outline refinement 3.3 and 8.8 (session 14),
+  // most; with the outline refinement 3.3 and 8.8,
   // while either replay is about 67–70 mm from the phantom's truth on this
   // clip (its default subject's generic anatomy against the default
   // measured spine placement, not the fit: docs/calibration.md). The

@@ -166,7 +166,7 @@ TEST(Config, AMessageStaysOneLineWhateverTheInputHolds) {
   auto key = parse_config("[cameras]\n\"f\\u0001ps\" = 3\n", "station.toml");
   ASSERT_FALSE(key.ok());
   EXPECT_EQ(key.error().message, "station.toml:2: cameras.f\\x01ps: unknown key");
-  // A mode's value is quoted too (the config_toml fuzzer, session 11:
+  // A mode's value is quoted too (found by the config_toml fuzzer:
   // corpus/config_toml/regression-line-end-in-a-mode.toml).
   auto mode = parse_config("[log]\nlevel = \"in\\nfo\"\n", "station.toml");
   ASSERT_FALSE(mode.ok());
@@ -231,7 +231,7 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   auto bad = parse_config("[cvsm]\nrefine_steps = 9\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_steps: 9 is out of range [0, 4]");
-  // Session 13's name for it says what it is now.
+  // The key's former name is refused with its new one.
   auto renamed = parse_config("[cvsm]\nrefine_sweeps = 1\n", "s.toml");
   ASSERT_FALSE(renamed);
   EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");

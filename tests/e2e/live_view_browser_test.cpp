@@ -57,8 +57,7 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
   // Pages a second or more apart that show a tracked spine, until two
   // show different spines. The embedded default loops a recording whose
   // first frames are the empty scene: a page loaded then rightly shows
-  // "lost" and is taken again. Once (session 13, the sanitizer build in a
-  // CI run) two pages 1.2 s apart showed the same spine to the last digit;
+  // "lost" and is taken again. Once (the sanitizer build in a CI run) two pages 1.2 s apart showed the same spine to the last digit;
   // why is not known (no two successive postures of that recording are
   // equal), so a page is taken again then too. A view that stopped
   // following the phantom shows one spine on all ten loads, and fails.
