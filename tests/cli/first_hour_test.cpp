@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -81,6 +82,15 @@ TEST(ReadmeUsing, EveryCommandRunsAsWrittenInATemporaryDirectory) {
   std::istringstream out(r.output);
   for (std::string line; std::getline(out, line);) watched += contains(line, " neck ") && contains(line, " latency ");
   EXPECT_EQ(watched, 30u) << r.output.substr(0, 6000);
+  // The daemon's stop line gives the run's mean rate, not the last second's 0.0.
+  std::smatch stop;
+  ASSERT_TRUE(std::regex_search(r.output, stop, std::regex(R"(over the run: ([0-9.]+) pairs/s, ([0-9]+) pairs)")))
+      << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
+  EXPECT_GT(std::stod(stop[1]), 5.0) << stop[0];
+  // A recording of a few seconds reports seconds, not "0.0 min" everywhere.
+  const std::string report = test::read_file(scratch / "report/report.html");
+  EXPECT_EQ(report.find(">0.0 min<"), std::string::npos);
+  EXPECT_TRUE(std::regex_search(report, std::regex(R"(>[0-9]+\.[0-9] s[ <])"))) << "no time in seconds in the report";
 }
 
 // The demo's recording (the embedded default, rendered at build time with
