@@ -21,7 +21,7 @@ elseif(SPINEWATCH_SANITIZE)
   # GCC 12's -Wmaybe-uninitialized gives false positives under the
   # sanitizers' instrumentation: at -O1 it flags libstdc++'s own std::regex
   # compiler (std::function in _M_disjunction) in a test that only builds
-  # a pattern (seen in session 9). The release build keeps the warning, as
+  # a pattern. The release build keeps the warning, as
   # an error, for the same code.
   target_compile_options(spinewatch_warnings INTERFACE -Wno-maybe-uninitialized)
 endif()

@@ -1,6 +1,6 @@
 // spinewatch background: the station's empty scene, from its two cameras
 // or from the empty frames of a recording, into background_frontal.png and
-// background_lateral.png (interfaces.md §2; docs/tuning.md, "Background").
+// background_lateral.png (docs/interfaces.md §2; docs/tuning.md, "Background").
 // The per-pixel median of the frames taken, refused when the scene moved
 // while they were taken (someone in view): a background with a person in
 // it would hide that person for as long as the station runs.

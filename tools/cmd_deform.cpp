@@ -1,6 +1,6 @@
 // spinewatch deform: the paper's Table 1 protocol — the accurate model of a
 // subject, from its neutral spine, driven to the neck and waist of each
-// target line (interfaces.md §4).
+// target line (docs/interfaces.md §4).
 #include <chrono>
 #include <fstream>
 #include <iostream>

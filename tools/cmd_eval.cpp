@@ -1,5 +1,6 @@
 // spinewatch eval: errors of the estimate against a recording's ground truth
 // (DIR/ground_truth.ndjson, as the phantom writes it).
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -64,6 +65,13 @@ void add_eval_command(CLI::App& app, ExitCode& exit_code) {
       return;
     }
     const std::string truth_path = opts->truth.empty() ? opts->recording + "/ground_truth.ndjson" : opts->truth;
+    if (opts->truth.empty() && !std::filesystem::exists(truth_path)) {
+      spdlog::error("eval: {} has no ground_truth.ndjson: it is not a phantom recording (only spinewatch phantom "
+                    "writes ground truth); give the truth with --truth FILE (docs/phantom.md)",
+                    opts->recording);
+      exit_code.value = 1;
+      return;
+    }
     auto truth = read_posture_file(truth_path);
     if (!truth) return fail(truth.error());
 

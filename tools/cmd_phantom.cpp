@@ -1,17 +1,52 @@
 // spinewatch phantom: render a synthetic subject into a recording directory
 // with ground truth (docs/phantom.md).
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <optional>
+#include <string_view>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
 #include "spinewatch/phantom/ansur_subject.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
+namespace spinewatch {
+// config/subjects/ansur-15936.json, embedded (tools/CMakeLists.txt).
+std::string_view default_subject_json();
+}  // namespace spinewatch
+
 namespace spinewatch::cli {
+namespace {
+
+// The default subject is a measured adult: ANSUR II subject 15936, the test
+// set's median man, his spine placed from his own C7 and iliac-crest
+// landmarks (docs/anthropometry.md). It is embedded, so that the phantom,
+// and the demo recording rendered with it at build time, need no data
+// beside the repository. "generic" names the generic anatomy the model was
+// first built on, whose spine sits lower in the body than measured people's.
+Result<phantom::Subject> named_subject(const std::string& spec) {
+  if (spec.empty())
+    return phantom::parse_subject(nlohmann::json::parse(default_subject_json()), "the default subject");
+  if (spec == "generic") return phantom::Subject{};
+  if (spec.starts_with(phantom::kAnsurSubjectPrefix)) {
+    const auto dir = phantom::default_ansur_dir();
+    auto subject = phantom::load_ansur_subject(spec, dir);
+    std::error_code ec;
+    if (!subject && !std::filesystem::is_directory(dir, ec))
+      return Error{fmt::format("{}: the ANSUR II data is not at {} (relative to {}): set $SPINEWATCH_ANSUR_DIR to the "
+                               "directory holding ANSUR_II_MALE_Public.csv and ANSUR_II_FEMALE_Public.csv, or run "
+                               "from the repository's root with ../shared beside it",
+                               spec, dir.string(), std::filesystem::current_path(ec).string())};
+    return subject;
+  }
+  return phantom::load_subject(spec);
+}
+
+}  // namespace
 
 void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
@@ -33,8 +68,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--scenario", opts->scenario, "Scenario to play (see --list)")->check(CLI::IsMember(names));
   cmd->add_option("--out", opts->out, "Recording directory to write");
   cmd->add_option("--subject", opts->subject,
-                  "Subject JSON, or ansur:ID for that measured adult of ANSUR II (in $SPINEWATCH_ANSUR_DIR, else "
-                  "../shared/data/ansur2) (default: the generic adult, config/subjects/generic.json)");
+                  "Subject JSON, ansur:ID for that measured adult of ANSUR II (in $SPINEWATCH_ANSUR_DIR, else "
+                  "../shared/data/ansur2), or generic for the generic anatomy (default: a measured adult, ANSUR II "
+                  "15936, config/subjects/ansur-15936.json)");
   cmd->add_option("--frames", opts->frames, "Person frames after the empty ones (default: the scenario's)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", opts->phantom.seed, "Seed of everything random (texture, noise, the subject's joint factors)")
@@ -96,13 +132,9 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     phantom::PhantomOptions& p = opts->phantom;
     p.scenario = opts->scenario;
     if (opts->frames > 0) p.frames = opts->frames;
-    if (!opts->subject.empty()) {
-      auto subject = opts->subject.starts_with(phantom::kAnsurSubjectPrefix)
-                         ? phantom::load_ansur_subject(opts->subject, phantom::default_ansur_dir())
-                         : phantom::load_subject(opts->subject);
-      if (!subject) return exit_code.fail(subject.error());
-      p.subject = std::move(subject).value();
-    }
+    auto subject = named_subject(opts->subject);
+    if (!subject) return exit_code.fail(subject.error());
+    p.subject = std::move(subject).value();
     const bool station = opts->tilt || opts->roll || opts->pair_angle || opts->height;
     if (station && !opts->calibration.empty()) {
       spdlog::error("phantom: --calibration gives the rig; --camera-tilt, --camera-roll, --pair-angle and "
@@ -157,7 +189,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     if (!p.subject.t1_height_mm && !p.subject.l5_height_mm)
       spdlog::info("phantom: subject '{}' has the phantom's generic anatomy, not a measured person's; to score the fit "
                    "on it, replay with [subject] spine_placement = \"generic\" (docs/anthropometry.md); "
-                   "--subject ansur:ID renders a measured adult",
+                   "the default subject and --subject ansur:ID are measured adults",
                    p.subject.name);
   });
 }

@@ -73,7 +73,7 @@ class StopOnSignal {
   std::thread thread_;
 };
 
-// The station's stored background goes with the recording (interfaces.md
+// The station's stored background goes with the recording (docs/interfaces.md
 // §2), so that replay sees the scene as the station did. Read before
 // recording: a bad file is reported before the cameras start, not after.
 Result<std::optional<BackgroundImages>> station_background(const Config& config) {

@@ -1,5 +1,5 @@
 // spinewatch replay: every frame pair of a recording, as fast as the machine
-// allows, to the NDJSON posture stream (interfaces.md §4).
+// allows, to the NDJSON posture stream (docs/interfaces.md §4).
 #include <memory>
 #include <optional>
 
@@ -26,7 +26,7 @@ void add_replay_command(CLI::App& app, ExitCode& exit_code) {
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("replay", "Estimate the posture of every frame pair of a recording");
-  cmd->add_option("--recording", opts->recording, "recording directory (interfaces.md §2)")->required();
+  cmd->add_option("--recording", opts->recording, "recording directory (docs/interfaces.md §2)")->required();
   cmd->add_option("--out", opts->out, "NDJSON output file, - for standard output")->required();
   cmd->add_option("--config", opts->config, "station configuration (estimator settings); defaults otherwise");
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml instead of the recording's");

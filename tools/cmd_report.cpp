@@ -1,5 +1,5 @@
 // spinewatch report: an exposure report over a time range of what a station
-// stored (interfaces.md §4; docs/exposure.md): DIR/report.html (inline SVG,
+// stored (docs/interfaces.md §4; docs/exposure.md): DIR/report.html (inline SVG,
 // nothing external) and DIR/summaries.csv.
 #include <filesystem>
 #include <memory>
@@ -85,7 +85,8 @@ void add_report_command(CLI::App& app, ExitCode& exit_code) {
     if (auto s = write_output((dir / "report.html").string(), *html); !s) return exit_code.fail(s.error());
     if (auto s = write_output((dir / "summaries.csv").string(), render_csv(input.intervals)); !s)
       return exit_code.fail(s.error());
-    spdlog::info("report: {} intervals → {}/report.html, {}/summaries.csv", input.intervals.size(), opts->out, opts->out);
+    spdlog::info("report: {} interval{} → {}/report.html, {}/summaries.csv", input.intervals.size(),
+                 input.intervals.size() == 1 ? "" : "s", opts->out, opts->out);
   });
 }
 

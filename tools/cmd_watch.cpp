@@ -86,6 +86,16 @@ int watch(Socket& socket, bool json, long count) {
   }
 }
 
+// A refused or missing endpoint means no daemon there: say so, and how to
+// point watch at one that is.
+std::string connect_failure(const std::string& where, const boost::system::error_code& ec) {
+  if (ec == asio::error::connection_refused || ec == boost::system::errc::no_such_file_or_directory)
+    return fmt::format("watch: {}: {}: the daemon is not running there (start spinewatchd, or give the address it "
+                       "listens on: --connect HOST:PORT for its --listen, --unix PATH for its --unix)",
+                       where, ec.message());
+  return fmt::format("watch: {}: {}", where, ec.message());
+}
+
 }  // namespace
 
 void add_watch_command(CLI::App& app, ExitCode& exit_code) {
@@ -108,7 +118,7 @@ void add_watch_command(CLI::App& app, ExitCode& exit_code) {
       asio::local::stream_protocol::socket socket(io);
       socket.connect(asio::local::stream_protocol::endpoint(opts->unix_path), ec);
       if (ec) {
-        spdlog::error("watch: {}: {}", opts->unix_path, ec.message());
+        spdlog::error("{}", connect_failure(opts->unix_path, ec));
         exit_code.value = 1;
         return;
       }
@@ -126,7 +136,7 @@ void add_watch_command(CLI::App& app, ExitCode& exit_code) {
     asio::ip::tcp::socket socket(io);
     if (!ec) asio::connect(socket, addresses, ec);
     if (ec) {
-      spdlog::error("watch: {}: {}", opts->connect, ec.message());
+      spdlog::error("{}", connect_failure(opts->connect, ec));
       exit_code.value = 1;
       return;
     }

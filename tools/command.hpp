@@ -11,7 +11,7 @@ struct ExitCode {
   int value = 0;
 
   // Logs the error once and sets the exit code (1: bad input or a failed
-  // operation; 2 is for usage errors, interfaces.md §4).
+  // operation; 2 is for usage errors, docs/interfaces.md §4).
   void fail(const Error& error, int code = 1);
 };
 

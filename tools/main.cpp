@@ -1,5 +1,7 @@
 // spinewatch: the command-line tool of the posture station.
 #include <cstdio>
+#include <map>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -12,6 +14,25 @@ namespace spinewatch::cli {
 void ExitCode::fail(const Error& error, int code) {
   spdlog::error("{}", error.message);
   value = code;
+}
+
+// `spinewatch --help` lists what a station's user runs first; the commands
+// that test the estimator or build its models come after, under their own
+// headings. A command not named here is a station command.
+void group_commands(CLI::App& app) {
+  static const std::map<std::string, std::string> kGroups = {
+      {"phantom", "Testing (synthetic subjects with ground truth)"},
+      {"eval", "Testing (synthetic subjects with ground truth)"},
+      {"deform", "Research and development (docs/spine-model.md, docs/anthropometry.md)"},
+      {"fit-spine", "Research and development (docs/spine-model.md, docs/anthropometry.md)"},
+      {"fit-cvsm", "Research and development (docs/spine-model.md, docs/anthropometry.md)"},
+      {"fit-anthropometry", "Research and development (docs/spine-model.md, docs/anthropometry.md)"},
+      {"population", "Research and development (docs/spine-model.md, docs/anthropometry.md)"},
+  };
+  for (CLI::App* cmd : app.get_subcommands([](CLI::App*) { return true; })) {
+    const auto it = kGroups.find(cmd->get_name());
+    cmd->group(it != kGroups.end() ? it->second : "Station");
+  }
 }
 }  // namespace spinewatch::cli
 
@@ -43,6 +64,7 @@ int main(int argc, char** argv) {
   cli::add_calibrate_command(app, exit_code);
   cli::add_export_command(app, exit_code);
   cli::add_import_command(app, exit_code);
+  cli::group_commands(app);
 
   try {
     app.parse(argc, argv);
@@ -54,7 +76,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the message and usage hint
-    return 2;     // interfaces.md §4: an unknown option or bad value exits 2
+    return 2;     // docs/interfaces.md §4: an unknown option or bad value exits 2
   }
   return exit_code.value;
 }

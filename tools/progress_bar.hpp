@@ -1,6 +1,6 @@
 #pragma once
 // A one-line progress bar on standard error, drawn only when standard error
-// is a terminal (interfaces.md §4: nothing extra when it is not).
+// is a terminal (docs/interfaces.md §4: nothing extra when it is not).
 #include <cstdint>
 #include <string>
 

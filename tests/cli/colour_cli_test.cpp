@@ -31,7 +31,7 @@ Scores eval(const std::filesystem::path& rec, const std::filesystem::path& confi
 TEST(ColourStation, ItsCapturedBackgroundKeepsACastShadowOutOfTheSilhouette) {
   test::TempDir dir;
   // The installer's capture: an empty colour scene.
-  auto r = test::run_cli("--log-level warn phantom --colour --scenario upright --empty-frames 30 --frames 1 --out '" +
+  auto r = test::run_cli("--log-level warn phantom --subject generic --colour --scenario upright --empty-frames 30 --frames 1 --out '" +
                          (dir / "empty").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = test::run_cli("background --recording '" + (dir / "empty").string() + "' --frames 30 --out '" +

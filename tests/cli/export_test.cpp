@@ -105,7 +105,7 @@ class Export : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new test::TempDir();
     // 10 empty frames (lost), the model being built (init), then a 0 → 50° flexion: 3.33 s.
-    auto r = test::run_cli("phantom --scenario flexion --frames 90 --seed 3 --out " + (*dir_ / "rec").string());
+    auto r = test::run_cli("phantom --subject generic --scenario flexion --frames 90 --seed 3 --out " + (*dir_ / "rec").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     auto replay = test::run_cli("replay --recording " + (*dir_ / "rec").string() + " --out " + postures().string());
     ASSERT_EQ(replay.exit_code, 0) << replay.output;

@@ -31,7 +31,7 @@ class ReplayOverlay : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir();
-    auto r = test::run_cli("phantom --scenario flexion --frames 24 --seed 5 --out " + rec().string());
+    auto r = test::run_cli("phantom --subject generic --scenario flexion --frames 24 --seed 5 --out " + rec().string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = test::run_cli("replay --recording " + rec().string() + " --out " + (dir_->path() / "p.ndjson").string() +
                       " --overlay " + (dir_->path() / "ovl").string() + " --every 3");
@@ -168,7 +168,7 @@ TEST(ReplayOverlayErrors, EveryZeroIsAUsageError) {
 TEST(ReplayOverlayErrors, UncreatableDirectoryExitsOneNamingIt) {
   test::TempDir dir;
   test::write_file(dir / "file", "not a directory");
-  auto r = test::run_cli("phantom --scenario upright --frames 2 --empty-frames 2 --out " + (dir / "rec").string());
+  auto r = test::run_cli("phantom --subject generic --scenario upright --frames 2 --empty-frames 2 --out " + (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = test::run_cli("replay --recording " + (dir / "rec").string() + " --out " + (dir / "p.ndjson").string() +
                     " --overlay " + (dir / "file/ovl").string());

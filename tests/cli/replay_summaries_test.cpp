@@ -16,7 +16,7 @@ using test::read_ndjson;
 TEST(ReplaySummaries, IntervalsOfTheConfiguredLengthThenTheShiftValidAgainstTheSchema) {
   test::TempDir dir;
   // 90 person frames after 10 empty ones: 3.33 s; flexion 0 → 50° → 0.
-  auto r = test::run_cli("phantom --scenario flexion --frames 90 --seed 3 --out " + (dir / "rec").string());
+  auto r = test::run_cli("phantom --subject generic --scenario flexion --frames 90 --seed 3 --out " + (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<int, std::vector<nlohmann::json>> by_interval;
   for (const std::string interval_s : {"1", "2"}) {
@@ -28,7 +28,7 @@ TEST(ReplaySummaries, IntervalsOfTheConfiguredLengthThenTheShiftValidAgainstTheS
     ASSERT_EQ(replay.exit_code, 0) << replay.output;
     EXPECT_EQ(test::validate_ndjson(summaries), "");
     by_interval[std::stoi(interval_s)] = read_ndjson(summaries);
-    // --out keeps posture lines only (interfaces.md §3).
+    // --out keeps posture lines only (docs/interfaces.md §3).
     for (const auto& p : read_ndjson(dir / "p.ndjson")) ASSERT_EQ(p.at("class"), "posture");
   }
   // 3.33 s: [0,1) [1,2) [2,3) [3,3.33) with 1 s; [0,2) [2,3.33) with 2 s; each with the shift.

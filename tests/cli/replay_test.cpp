@@ -1,5 +1,5 @@
 // spinewatch replay / eval on phantom recordings: the stream contract
-// (interfaces.md §3–§4), pairing of unequal streams, and bad input.
+// (docs/interfaces.md §3–§4), pairing of unequal streams, and bad input.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,7 +19,7 @@ class Replay : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir();
-    auto r = test::run_cli("phantom --scenario flexion --frames 40 --seed 3 --out " + (dir_->path() / "rec").string());
+    auto r = test::run_cli("phantom --subject generic --scenario flexion --frames 40 --seed 3 --out " + (dir_->path() / "rec").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   static void TearDownTestSuite() {
@@ -154,7 +154,7 @@ TEST(EvalErrors, BadGroundTruthLineNamesFileAndLine) {
 
 TEST(Eval, TruthAgainstItselfIsExact) {
   test::TempDir dir;
-  auto r = test::run_cli("phantom --scenario lateral_left --frames 30 --out " + (dir / "rec").string());
+  auto r = test::run_cli("phantom --subject generic --scenario lateral_left --frames 30 --out " + (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto e = test::run_cli("eval --json --recording " + (dir / "rec").string() + " --estimate " +
                          (dir / "rec/ground_truth.ndjson").string() + " 2>/dev/null");

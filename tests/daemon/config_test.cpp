@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "../../daemon/src/support/nearest_name.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
@@ -33,13 +34,33 @@ TEST(Config, ReadsValues) {
 TEST(Config, UnknownKeyNamesKeyAndLine) {
   auto c = parse_config("[cameras]\nfps = 30\nfpz = 30\n", "station.toml");
   ASSERT_FALSE(c.ok());
-  EXPECT_EQ(c.error().message, "station.toml:3: cameras.fpz: unknown key");
+  EXPECT_EQ(c.error().message, "station.toml:3: cameras.fpz: unknown key; did you mean cameras.fps?");
 }
 
 TEST(Config, UnknownSection) {
   auto c = parse_config("\n[camera]\nfps = 30\n", "station.toml");
   ASSERT_FALSE(c.ok());
-  EXPECT_EQ(c.error().message, "station.toml:2: [camera]: unknown section");
+  EXPECT_EQ(c.error().message, "station.toml:2: [camera]: unknown section; did you mean [cameras]?");
+}
+
+// A typo names the key meant; a name near none of them, or equally near two, names none.
+TEST(Config, UnknownKeySuggestsTheNearestKnownOne) {
+  auto error = [](const std::string& text) { return parse_config(text, "s.toml").error().message; };
+  EXPECT_EQ(error("[publish]\nunix_sockt = \"none\"\n"),
+            "s.toml:2: publish.unix_sockt: unknown key; did you mean publish.unix_socket?");
+  EXPECT_EQ(error("[subject]\nc7_hieght_mm = 1500\n"),
+            "s.toml:2: subject.c7_hieght_mm: unknown key; did you mean subject.c7_height_mm?");
+  EXPECT_EQ(error("[publsh]\nlisten = \"none\"\n"), "s.toml:1: [publsh]: unknown section; did you mean [publish]?");
+  EXPECT_EQ(error("[cameras]\nframerate = 30\n"), "s.toml:2: cameras.framerate: unknown key");
+}
+
+TEST(NearestName, EditDistanceAndTies) {
+  EXPECT_EQ(edit_distance("", "abc"), 3u);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(edit_distance("fps", "fps"), 0u);
+  EXPECT_EQ(nearest_name("fpz", {"fps", "width"}, 1), "fps");
+  EXPECT_EQ(nearest_name("ab", {"aa", "bb"}, 1), std::nullopt);  // equally near: no guess
+  EXPECT_EQ(nearest_name("zzzz", {"fps"}, 3), std::nullopt);
 }
 
 TEST(Config, TopLevelKeyIsUnknown) {
@@ -141,11 +162,11 @@ TEST(Config, AMessageStaysOneLineWhateverTheInputHolds) {
 
   auto section = parse_config("[\"cam\\neras\"]\nfps = 3\n", "station.toml");
   ASSERT_FALSE(section.ok());
-  EXPECT_EQ(section.error().message, "station.toml:1: [cam\\neras]: unknown section");
+  EXPECT_EQ(section.error().message, "station.toml:1: [cam\\neras]: unknown section; did you mean [cameras]?");
   auto key = parse_config("[cameras]\n\"f\\u0001ps\" = 3\n", "station.toml");
   ASSERT_FALSE(key.ok());
   EXPECT_EQ(key.error().message, "station.toml:2: cameras.f\\x01ps: unknown key");
-  // A mode's value is quoted too (the config_toml fuzzer, session 11:
+  // A mode's value is quoted too (found by the config_toml fuzzer:
   // corpus/config_toml/regression-line-end-in-a-mode.toml).
   auto mode = parse_config("[log]\nlevel = \"in\\nfo\"\n", "station.toml");
   ASSERT_FALSE(mode.ok());
@@ -210,7 +231,7 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   auto bad = parse_config("[cvsm]\nrefine_steps = 9\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_steps: 9 is out of range [0, 4]");
-  // Session 13's name for it says what it is now.
+  // The key's former name is refused with its new one.
   auto renamed = parse_config("[cvsm]\nrefine_sweeps = 1\n", "s.toml");
   ASSERT_FALSE(renamed);
   EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");

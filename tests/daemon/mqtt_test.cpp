@@ -4,6 +4,7 @@
 // (skipped, with the reason, where /usr/sbin/mosquitto is not installed).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdlib>
 
@@ -135,7 +136,15 @@ TEST(MqttOptionsTest, OffWithoutAUrlAndTheOutboxDefaultsToTheStateDirectory) {
   ::unsetenv("STATE_DIRECTORY");
   ASSERT_TRUE(o && *o);
   EXPECT_EQ((*o)->outbox_path, "/var/lib/spinewatch-x/mqtt-outbox.db");
-  EXPECT_EQ((*mqtt_options(mqtt_config("")))->outbox_path, "/var/lib/spinewatch/mqtt-outbox.db");
+  // Off systemd: /var/lib/spinewatch where this process may write, else the user's state directory.
+  test::TempDir home;
+  ::setenv("XDG_STATE_HOME", home.path().c_str(), 1);
+  auto by_hand = mqtt_options(mqtt_config(""));
+  ::unsetenv("XDG_STATE_HOME");
+  ASSERT_TRUE(by_hand) << by_hand.error().message;
+  const std::filesystem::path system_dir = "/var/lib/spinewatch";
+  const bool system = ::access(system_dir.c_str(), W_OK) == 0;
+  EXPECT_EQ((*by_hand)->outbox_path, (system ? system_dir : home.path() / "spinewatch") / "mqtt-outbox.db");
   EXPECT_EQ((*mqtt_options(mqtt_config("outbox_path = \"/tmp/o.db\"\n")))->outbox_path, "/tmp/o.db");
   auto tls = parse_config("[mqtt]\nurl = \"mqtts://127.0.0.1:8883\"\nca_file = \"/nonexistent/ca.pem\"\n", "m.toml");
   ASSERT_TRUE(tls);

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/station_dirs.hpp"
 #include "test_client.hpp"
 #include "test_support.hpp"
 
@@ -397,10 +398,54 @@ TEST(UnixSocketPath, FollowsRuntimeDirectory) {
   const char* old = std::getenv("RUNTIME_DIRECTORY");
   const std::string saved = old ? old : "";
   ::setenv("RUNTIME_DIRECTORY", "/run/a:/run/b", 1);
-  EXPECT_EQ(default_unix_socket_path(), "/run/a/posture.sock");
-  ::unsetenv("RUNTIME_DIRECTORY");
-  EXPECT_EQ(default_unix_socket_path(), "/run/spinewatch/posture.sock");
+  auto path = default_unix_socket_path();
+  ASSERT_TRUE(path) << path.error().message;
+  EXPECT_EQ(*path, "/run/a/posture.sock");
   if (old) ::setenv("RUNTIME_DIRECTORY", saved.c_str(), 1);
+  else ::unsetenv("RUNTIME_DIRECTORY");
+}
+
+// Off systemd, a daemon started by hand (docs/daemon.md, "Files a daemon
+// started by hand uses"): the system directories when it may write there,
+// else its user's XDG directories, else /tmp/spinewatch-UID and ~/.local/state.
+TEST(StationDirs, SystemdThenSystemThenTheUsersOwn) {
+  DirEnvironment env;
+  env.uid = 1000;
+  env.home = "/home/w";
+  bool system_writable = false;
+  env.writable_dir = [&](const std::filesystem::path&) { return system_writable; };
+  EXPECT_EQ(runtime_dir(env), "/tmp/spinewatch-1000");
+  EXPECT_EQ(state_dir(env), "/home/w/.local/state/spinewatch");
+  env.xdg_runtime_dir = "/run/user/1000";
+  env.xdg_state_home = "/home/w/state";
+  EXPECT_EQ(runtime_dir(env), "/run/user/1000/spinewatch");
+  EXPECT_EQ(state_dir(env), "/home/w/state/spinewatch");
+  system_writable = true;
+  EXPECT_EQ(runtime_dir(env), "/run/spinewatch");
+  EXPECT_EQ(state_dir(env), "/var/lib/spinewatch");
+  env.runtime_directory = "/run/a:/run/b";
+  env.state_directory = "/var/lib/a:/var/lib/b";
+  EXPECT_EQ(runtime_dir(env), "/run/a");
+  EXPECT_EQ(state_dir(env), "/var/lib/a");
+}
+
+TEST(StationDirs, TheUsersFallbackIsMadePrivateAndAForeignOneRefused) {
+  test::TempDir dir;
+  DirEnvironment env;
+  env.xdg_runtime_dir = (dir / "run").string();
+  env.writable_dir = [](const std::filesystem::path&) { return false; };
+  auto sock = default_station_file(StationDir::Runtime, "posture.sock", "publish.unix_socket", env);
+  ASSERT_TRUE(sock) << sock.error().message;
+  EXPECT_EQ(*sock, dir / "run" / "spinewatch" / "posture.sock");
+  struct stat st {};
+  ASSERT_EQ(::stat((dir / "run" / "spinewatch").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0700u);
+  // A directory others may write to (as anyone could make /tmp/spinewatch-UID first) is not used.
+  ASSERT_EQ(::chmod((dir / "run" / "spinewatch").c_str(), 0777), 0);
+  auto refused = default_station_file(StationDir::Runtime, "posture.sock", "publish.unix_socket", env);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("set publish.unix_socket to another path"), std::string::npos)
+      << refused.error().message;
 }
 
 }  // namespace

@@ -21,16 +21,16 @@ using test::LineClient;
 class DaemonBackground : public ::testing::Test {
  protected:
   // A phantom subject in view from the first frame; its recording carries
-  // no background (interfaces.md §2: normal input).
+  // no background (docs/interfaces.md §2: normal input).
   std::filesystem::path subject_in_view(int frames) {
     const auto rec = dir / "rec";
-    auto r = test::run_cli("--log-level warn phantom --scenario sway --empty-frames 0 --frames " +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario sway --empty-frames 0 --frames " +
                            std::to_string(frames) + " --out '" + rec.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     // The empty scene, as an installer captures it: from a recording of
     // the empty station (here: the phantom's scene with nobody in it).
     const auto empty = dir / "empty";
-    r = test::run_cli("--log-level warn phantom --scenario upright --empty-frames 30 --frames 1 --out '" +
+    r = test::run_cli("--log-level warn phantom --subject generic --scenario upright --empty-frames 30 --frames 1 --out '" +
                       empty.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     r = test::run_cli("background --recording '" + empty.string() + "' --frames 30 --out '" + (dir / "station").string() + "'");

@@ -22,7 +22,7 @@ class DaemonE2E : public ::testing::Test {
  protected:
   std::filesystem::path make_recording(int frames, int empty_frames = 2) {
     const auto rec = dir / "rec";
-    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames " + std::to_string(frames) +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames " + std::to_string(frames) +
                            " --empty-frames " + std::to_string(empty_frames) + " --out '" + rec.string() + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return rec;
@@ -80,7 +80,7 @@ TEST_F(DaemonE2E, ServesThreeClientsOnAPhantomRecordingAndStopsOnSigterm) {
   // seq rises by one per line, except where the pipeline dropped pairs it
   // could not keep up with (a slow build, the subject model's first frame):
   // every missing seq is a dropped pair, counted by the time the line after
-  // the gap is written (interfaces.md §3).
+  // the gap is written (docs/interfaces.md §3).
   for (auto* lines : {&lines_a, &lines_b}) {
     std::uint64_t previous = nlohmann::json::parse((*lines)[1]).at("seq").get<std::uint64_t>(), missing = 0;
     for (std::size_t i = 2; i < lines->size(); ++i) {

@@ -1,4 +1,4 @@
-// spinewatchd and a real MQTT broker (docs/fleet.md; interfaces.md §7):
+// spinewatchd and a real MQTT broker (docs/fleet.md; docs/interfaces.md §7):
 // Debian's mosquitto on loopback at a free port, a libmosquitto subscriber.
 // The documented topics carry schema-valid payloads; status turns offline
 // when the daemon is SIGKILLed; a 30 s broker outage loses no summary or
@@ -38,7 +38,7 @@ class DaemonMqtt : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     recording_dir_ = new test::TempDir();
-    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames 60 --empty-frames 2 --out '" +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames 60 --empty-frames 2 --out '" +
                            (*recording_dir_ / "rec").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     test::write_file(*recording_dir_ / "rules.toml", kQuickRules);

@@ -41,7 +41,7 @@ struct Query {
 class DaemonStorage : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames 90 --empty-frames 2 --out '" +
+    auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames 90 --empty-frames 2 --out '" +
                            (dir / "rec").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }

@@ -20,7 +20,7 @@ using test::LineClient;
 TEST(DaemonSummaries, OneIntervalLinePerWholeSecondThenTheShiftAndTheLastPartialAtStop) {
   test::TempDir dir;
   const auto rec = dir / "rec";
-  auto r = test::run_cli("--log-level warn phantom --scenario flexion --frames 60 --empty-frames 2 --out '" +
+  auto r = test::run_cli("--log-level warn phantom --subject generic --scenario flexion --frames 60 --empty-frames 2 --out '" +
                          rec.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto config = dir / "spinewatch.toml";

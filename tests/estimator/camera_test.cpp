@@ -187,7 +187,7 @@ TEST_F(BadCalibration, ALineOpenCvWouldLoopOnIsRefusedFirst) {
           << name << ": " << msg;
     }
   }
-  EXPECT_EQ(files, 15);  // sessions 9 to 11: docs/testing.md, findings 7 and 11
+  EXPECT_EQ(files, 15);  // docs/testing.md, findings 7 and 11
   // And the lines of a calibration as OpenCV and its samples write them pass.
   const std::string wrapped =
       "%YAML:1.0\n---\n# a comment\ncalibration_time: \"Wed 04 Mar 2020 10:02:16 AM CET\"\nimage_width: 320\n"

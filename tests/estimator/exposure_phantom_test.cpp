@@ -124,9 +124,9 @@ TEST(ExposurePhantom, ZoneTimesOfATwoMinuteShiftMatchTheTrueSpineWithinOneFrame)
   EXPECT_EQ(shift.lateral_bend.entries, 3u);
   EXPECT_NEAR(shift.lateral_bend.over_s, true_lateral.over_s, 2 * kFrame_s);
   // Twists: the truth turns T1 against L5 beyond 10° four times (±20°
-  // three times, 15° in the last hold). Since session 10 the accurate
-  // model takes the CVSM's twist (before: under 2° published for a true
-  // 20°, 0 entries); every entry is seen, and on this rig the sign is
+  // three times, 15° in the last hold). The accurate model takes the
+  // CVSM's twist (without it: under 2° published for a true 20°, 0
+  // entries); every entry is seen, and on this rig the sign is
   // always resolved (docs/exposure.md, "Known limits"). The time beyond is
   // a little short: the fit's twist runs about 2° under the peaks.
   EXPECT_EQ(true_twist.entries, 4);

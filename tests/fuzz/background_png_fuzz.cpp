@@ -1,5 +1,5 @@
 // The station's empty scene (background_frontal.png / _lateral.png,
-// interfaces.md §2) through load_background_images, as the daemon, `replay`
+// docs/interfaces.md §2) through load_background_images, as the daemon, `replay`
 // and `record` load it: the input is the image file, read as both views.
 // A loaded scene must be packed rows of the size it says.
 #include "fuzz_support.hpp"

@@ -1,4 +1,4 @@
-// The daemon's configuration (interfaces.md §6) through parse_config, the
+// The daemon's configuration (docs/interfaces.md §6) through parse_config, the
 // function load_config and the reload on SIGHUP both use: the input is
 // the TOML text. A rejected file is one message naming the source.
 #include "fuzz_support.hpp"

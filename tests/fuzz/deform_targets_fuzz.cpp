@@ -1,4 +1,4 @@
-// The targets file of `spinewatch deform` (interfaces.md §4) through
+// The targets file of `spinewatch deform` (docs/interfaces.md §4) through
 // parse_target_lines: the input is the whole NDJSON text. Accepted lines
 // are finite, their directions unit vectors.
 #include "fuzz_support.hpp"

@@ -1,4 +1,4 @@
-// A posture line (interfaces.md §3) as `spinewatch eval` reads ground
+// A posture line (docs/interfaces.md §3) as `spinewatch eval` reads ground
 // truth and recorded streams: decode_posture on the input. A decoded
 // posture encodes to a line that decodes to the same line again.
 #include "fuzz_support.hpp"

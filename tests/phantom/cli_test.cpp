@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "spinewatch/anthropometry/ansur.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
@@ -48,6 +49,34 @@ TEST(PhantomCli, AMeasuredAdultNeedsNoNoteOnItsAnatomy) {
                          (dir / "rec").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("generic anatomy"), std::string::npos) << r.output;
+}
+
+// The default subject is the measured adult ANSUR II 15936, embedded
+// (config/subjects/ansur-15936.json): the same person `--subject
+// ansur:15936` reads from the data, so the committed file cannot drift from
+// it; the generic anatomy is had by name.
+TEST(PhantomCli, TheDefaultSubjectIsTheMeasuredAdultAndGenericIsByName) {
+  test::TempDir dir;
+  const std::string args = "--log-level warn phantom --scenario upright --frames 1 --empty-frames 0 --seed 4 --out ";
+  auto r = test::run_cli(args + (dir / "default").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto subject = [&](const char* name) {
+    return nlohmann::json::parse(test::read_file(dir / name / "recording.json"))["subject"];
+  };
+  const auto by_default = subject("default");
+  EXPECT_EQ(by_default["name"], "ansur:15936");
+  EXPECT_TRUE(by_default.contains("spine_heights_mm")) << by_default.dump();
+  auto generic = test::run_cli(args + (dir / "generic").string() + " --subject generic");
+  ASSERT_EQ(generic.exit_code, 0) << generic.output;
+  EXPECT_EQ(subject("generic")["name"], "generic");
+  EXPECT_FALSE(subject("generic").contains("spine_heights_mm"));
+
+  const auto ansur_dir = test::source_path(std::string(anthropometry::kAnsurRelativeDir));
+  if (!std::filesystem::exists(ansur_dir)) GTEST_SKIP() << ansur_dir << " is not here: the comparison with the data is skipped";
+  ::setenv("SPINEWATCH_ANSUR_DIR", ansur_dir.c_str(), 1);
+  auto measured = test::run_cli(args + (dir / "ansur").string() + " --subject ansur:15936");
+  ASSERT_EQ(measured.exit_code, 0) << measured.output;
+  EXPECT_EQ(by_default, subject("ansur")) << "config/subjects/ansur-15936.json differs from the data's subject 15936";
 }
 
 TEST(PhantomCli, UnknownScenarioExitsTwo) {

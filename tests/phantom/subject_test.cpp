@@ -69,7 +69,7 @@ TEST(PhantomSubject, BadFilesNameTheFieldAndTheProblem) {
       {"nested range", [](json& j) { j["legs"]["thigh_radius_mm"] = -3; }, "legs.thigh_radius_mm: -3 is out of range"},
       {"unknown", [](json& j) { j["hieght_mm"] = 1700; }, "hieght_mm: unknown field"},
       {"nested unknown", [](json& j) { j["arms"]["lenght_mm"] = 1; }, "arms.lenght_mm: unknown field"},
-      // The phantom_subject fuzzer (session 11): a line end in the key stays quoted.
+      // Found by the phantom_subject fuzzer: a line end in the key stays quoted.
       {"line end in a key", [](json& j) { j["legs"]["le\ngth_mm"] = 1; }, "legs.le\\ngth_mm: unknown field"},
       {"posture", [](json& j) { j["posture"] = "lying"; }, "posture: \"lying\" is not"},
       {"not an object", [](json& j) { j["head"] = 3; }, "head: expected an object"},

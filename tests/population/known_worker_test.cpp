@@ -133,7 +133,7 @@ TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
   ASSERT_TRUE(w.worker->rejected_stature_mm);
   EXPECT_EQ(*w.worker->rejected_stature_mm, row.stature_mm - 250);
   EXPECT_NEAR(w.worker->stature_mm, row.stature_mm, 15.0);
-  // Placed for the body in view: since session 14 the subject model starts
+  // Placed for the body in view: the subject model starts
   // over as if nothing were given once the stature is set aside, so the fit
   // is the one with nothing given (measured: 9.53 mm both; before, it kept
   // what had been placed and fitted for the given stature: 12.2 against
@@ -160,7 +160,7 @@ TEST(KnownWorker, TheGivenMassDrivesTheLoads) {
   };
   const double light = load_with(60), heavy = load_with(120);
   EXPECT_GT(light, 100.0);
-  // Not exactly 2 since session 10: the given mass also sets the BMI the
+  // Not exactly 2: the given mass also sets the BMI the
   // spine's depth is placed for (BMI 19 against 39: 19 mm deeper), which
   // moves the lever arms a little (measured 2.06).
   EXPECT_NEAR(heavy / light, 2.0, 0.1);

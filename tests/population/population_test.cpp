@@ -77,16 +77,16 @@ TEST(PopulationSelection, BothSexesOfTheTestSetSpreadOverStature) {
 // Measured on this subset (docs/anthropometry.md): these bounds are the
 // present level with a margin, not the targets, which the sweep
 // does not yet meet (the person-to-person spread of the iliac crest given
-// the stature alone is 23 mm SD). Since session 10 the phantom draws each
+// the stature alone is 23 mm SD). The phantom draws each
 // subject's skin-to-vertebra offsets and spine depth from the published
 // rules' spread (the validation protocol, config/spine-depth.toml), so
 // six subjects' vertical bias carries their drawn L5 offsets (±15 mm SD
 // each, ±6 mm on a mean of six): the 40-subject sweep's is −1.8 mm.
-// Measured (session 10): neck 12.5, waist 26.9, every vertebra 18.9 mm;
-// vertical bias −2.5 (T1) … −18.1 (L5); anterior bias −0.8 … −4.9 mm per
-// level (the 40-subject sweep: within 2.3 mm). Session 9 (rules at their
-// means, fixed phantom depth): 20.0, 24.3, 22.0; −11.9 … −13.1. The
-// issue's targets: 10, 10, 10 and 5.
+// Measured: neck 12.5, waist 26.9, every vertebra 18.9 mm; vertical bias
+// −2.5 (T1) … −18.1 (L5); anterior bias −0.8 … −4.9 mm per level (the
+// 40-subject sweep: within 2.3 mm). With the rules at their means and a
+// fixed phantom depth it measured 20.0, 24.3, 22.0; −11.9 … −13.1.
+// The targets: 10, 10, 10 and 5.
 constexpr double kNeckMean = 16, kWaistMean = 31, kVertebraeMean = 23, kVerticalBias = 21, kAnteriorBias = 7;
 
 // One test, so that the measured sweep (the costly part: 12 runs through
@@ -102,7 +102,7 @@ TEST(PopulationSweep, MeasuredPlacementOnTestSubjectsBeatsTheGenericSpine) {
   for (std::size_t k = 0; k < kVertebraCount; ++k)
     EXPECT_LE(std::abs(p.bias[k].y()), kVerticalBias) << kVertebraNames[k] << ": the spine sits too high or too low";
   // The published depth rule in both: no systematic front–back offset
-  // (session 9, with a fixed phantom depth and a template fraction, +8…+13 mm).
+  // (with a fixed phantom depth and a template fraction it was +8…+13 mm).
   for (std::size_t k = 0; k < kVertebraCount; ++k)
     EXPECT_LE(std::abs(p.bias[k].x()), kAnteriorBias) << kVertebraNames[k] << ": the spine sits too far forward or back";
 

@@ -1,4 +1,4 @@
-// The station's stored background as files (interfaces.md §2): a colour
+// The station's stored background as files (docs/interfaces.md §2): a colour
 // background round-trips through its PNG as YUYV (luma and chroma within a
 // level), a grey one stays grey, and files that cannot be a background are
 // refused with their name and the problem.

@@ -55,7 +55,7 @@ constexpr std::uint32_t kMaxSide = 4096;
 // The size a PNG declares in its IHDR chunk, read before anything is
 // decoded: OpenCV allocates width x height x channels first, so a crafted
 // header (a valid checksum over 30000x30000) would have it ask for
-// gigabytes. Only PNG is read (interfaces.md §2), not whatever else
+// gigabytes. Only PNG is read (docs/interfaces.md §2), not whatever else
 // imread would decode.
 Result<std::pair<std::uint32_t, std::uint32_t>> png_size(const std::filesystem::path& path) {
   static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};

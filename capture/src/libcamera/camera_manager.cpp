@@ -44,6 +44,18 @@ class LogForwarder final : public std::streambuf {
 
  private:
   static void emit(const std::string& line) {
+    // Without libcamera's image-processing modules (Debian: libcamera-ipa)
+    // it warns at every start; only cameras behind an ISP (a Raspberry Pi's)
+    // need them, UVC cameras do not. Said once, in words, not as a warning.
+    if (line.find("No IPA found") != std::string::npos) {
+      spdlog::debug("libcamera: {}", line);
+      static std::once_flag once;
+      std::call_once(once, [] {
+        spdlog::info("libcamera: no image-processing (IPA) modules installed: fine for USB (UVC) cameras; cameras "
+                     "behind an ISP, such as a Raspberry Pi's, need the libcamera-ipa package (docs/hardware.md)");
+      });
+      return;
+    }
     if (line.find(" ERROR ") != std::string::npos || line.find(" FATAL ") != std::string::npos)
       spdlog::error("libcamera: {}", line);
     else if (line.find(" WARN ") != std::string::npos)

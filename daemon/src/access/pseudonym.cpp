@@ -1,4 +1,5 @@
 #include "spinewatch/daemon/pseudonym.hpp"
+#include "spinewatch/daemon/station_dirs.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -61,12 +62,8 @@ std::string Pseudonyms::of(std::string_view id) const {
   return "w-" + hex(mac, 6);
 }
 
-std::filesystem::path default_secret_path() {
-  if (const char* dirs = std::getenv("STATE_DIRECTORY"); dirs != nullptr && *dirs != '\0') {
-    const std::string first = std::string(dirs).substr(0, std::string(dirs).find(':'));
-    return std::filesystem::path(first) / "pseudonym.key";
-  }
-  return "/var/lib/spinewatch/pseudonym.key";
+Result<std::filesystem::path> default_secret_path() {
+  return default_station_file(StationDir::State, "pseudonym.key", "privacy.secret_file");
 }
 
 }  // namespace spinewatch

@@ -39,6 +39,8 @@
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
 #include "spinewatch/sync/trigger_controller.hpp"
 
+#include "../source/ground_truth.hpp"
+
 namespace spinewatch {
 
 namespace asio = boost::asio;
@@ -68,7 +70,10 @@ Result<CameraRig> load_rig(const Config& config, const SourcePlan& plan, std::st
     used = path.string();
     return rig;
   }
-  spdlog::info("calibration: {} not found; using the default rig (docs/calibration.md)", config.cameras.calibration);
+  spdlog::warn("calibration: {} not found; using the default rig ({}; docs/calibration.md, \"The default rig\"); set "
+               "cameras.calibration to the station's calibration.yaml (spinewatch calibrate)",
+               config.cameras.calibration.empty() ? "none given" : config.cameras.calibration,
+               CameraRig::kDefaultRigSummary);
   used.clear();
   return CameraRig::default_rig();
 }
@@ -136,7 +141,13 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
     o.tcp = *endpoint;
   }
   const std::string unix_path = overrides.unix_socket.value_or(config.publish.unix_socket);
-  if (unix_path != "none") o.unix_socket = unix_path.empty() ? default_unix_socket_path() : std::filesystem::path(unix_path);
+  if (unix_path == "") {
+    auto path = default_unix_socket_path();
+    if (!path) return path.error();
+    o.unix_socket = std::move(path).value();
+  } else if (unix_path != "none") {
+    o.unix_socket = std::filesystem::path(unix_path);
+  }
   if (o.unix_socket && !config.publish.unix_socket_group.empty()) {
     auto gid = group_id(config.publish.unix_socket_group, "publish.unix_socket_group");
     if (!gid) return gid.error();
@@ -238,6 +249,7 @@ struct Daemon::Impl {
   std::unique_ptr<Pipeline> pipeline;
   std::shared_ptr<PostureEstimator> estimator;
   const FramePair* current_pair = nullptr;  // estimator thread: the pair being turned into a posture
+  std::optional<GroundTruthScore> truth;     // a replayed recording's ground truth, when it has one
   std::atomic<bool> relearn_requested{false};  // POST /background/relearn, taken up before the next pair
 
   // Counters for /metrics and /state (estimator thread writes, relaxed).
@@ -403,15 +415,18 @@ struct Daemon::Impl {
   Result<std::string> worker_name(const std::string& id) {
     if (!config.privacy.pseudonymise) return id;
     if (!pseudonyms) {
-      auto opened = Pseudonyms::open(secret_path());
+      auto path = secret_path();
+      if (!path) return path.error();
+      auto opened = Pseudonyms::open(*path);
       if (!opened) return opened.error();
       pseudonyms = std::move(opened).value();
     }
     return pseudonyms->of(id);
   }
 
-  std::filesystem::path secret_path() const {
-    return config.privacy.secret_file.empty() ? default_secret_path() : std::filesystem::path(config.privacy.secret_file);
+  Result<std::filesystem::path> secret_path() const {
+    if (config.privacy.secret_file.empty()) return default_secret_path();
+    return std::filesystem::path(config.privacy.secret_file);
   }
 
   DaemonMetrics metrics() const {
@@ -427,6 +442,7 @@ struct Daemon::Impl {
     if (mqtt) m.mqtt = mqtt->stats();
     m.pairs_per_s = pairs_per_s.load(std::memory_order_relaxed);
     m.uptime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (truth) m.truth = truth->stats();
     return m;
   }
 
@@ -441,6 +457,7 @@ struct Daemon::Impl {
     background_updates.store(posture.background.updates, std::memory_order_relaxed);
     background_relearns.store(posture.background.relearns, std::memory_order_relaxed);
     background_bootstraps.store(posture.background.bootstraps, std::memory_order_relaxed);
+    if (truth && current_pair) truth->score(current_pair->sequence, posture);
     if (live && current_pair) live->offer(*current_pair, posture, estimator->last_trace());
     current_pair = nullptr;
     std::string line = encode_posture_line(posture, stream_stats());
@@ -613,13 +630,22 @@ Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path
                     : open_recording_pair_source(plan->recording, {.paced = plan->paced, .loop = true});
   if (!source) return source.error();
   d.source_name = (*source)->describe();
+  if (plan->kind == SourcePlan::Kind::Recording) {
+    auto truth = GroundTruthScore::open(plan->recording);
+    if (!truth) return truth.error();
+    if (*truth) {
+      d.truth.emplace(std::move(**truth));
+      spdlog::info("{}: has ground truth: how far off the estimate is goes to /state (\"truth\") and the page",
+                   plan->recording.string());
+    }
+  }
   if (!plan->paced) spdlog::info("replaying {} as fast as the estimator takes pairs (cameras.replay = \"fast\")", d.source_name);
 
   // A secret file set explicitly is checked now (created if absent); the
   // default one at the first worker id, so a station that names no worker
   // needs no state directory.
   if (d.config.privacy.pseudonymise && !d.config.privacy.secret_file.empty()) {
-    auto opened = Pseudonyms::open(d.secret_path());
+    auto opened = Pseudonyms::open(d.config.privacy.secret_file);
     if (!opened) return opened.error();
     d.pseudonyms = std::move(opened).value();
   }
@@ -776,13 +802,16 @@ int Daemon::run() {
   if (d.http) d.http->stop();
   if (d.live) d.live->stop();
   d.publisher->stop();
+  // The rate at the stop is the run's mean, not the last second's (none).
+  const double run_s = std::chrono::duration<double>(t0 - d.started).count();
+  const double mean_rate = run_s > 0 ? static_cast<double>(d.stream_stats().pairs) / run_s : 0.0;
   if (d.store) {
-    d.store->add_event("info", "stopped: " + d.status_text(0.0));
+    d.store->add_event("info", "stopped: " + d.status_text(mean_rate));
     d.store->stop();
   }
-  spdlog::info("stopped in {} ms; {}",
+  spdlog::info("stopped in {} ms after {:.1f} s; over the run: {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
-               d.status_text(0.0));
+               run_s, d.status_text(mean_rate));
   return 0;
 }
 

@@ -65,6 +65,15 @@ std::string state_json(const StationInfo& station, const DaemonMetrics& m, const
       {"stream_viewers", m.http.stream_viewers},
       {"live_samples_dropped", m.live.samples_dropped},
   };
+  if (m.truth)
+    j["truth"] = {{"pairs", m.truth->pairs},
+                  {"pairs_not_tracking", m.truth->pairs_not_tracking},
+                  {"vertebrae_mean_mm", m.truth->vertebrae_mean_mm},
+                  {"neck_mean_mm", m.truth->neck_mean_mm},
+                  {"waist_mean_mm", m.truth->waist_mean_mm},
+                  {"last_vertebrae_mm", m.truth->last_vertebrae_mm}};
+  else
+    j["truth"] = nullptr;
   j["rates"] = {{"pairs_per_s", m.pairs_per_s},
                 {"latency_mean_ms", m.latency.count ? 1e3 * m.latency.sum_s / static_cast<double>(m.latency.count) : 0.0}};
   return j.dump();

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "spinewatch/daemon/mqtt_publisher.hpp"
+#include "spinewatch/daemon/station_dirs.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {
@@ -37,14 +38,8 @@ Result<std::string> read_password(const std::string& path) {
   return password;
 }
 
-std::filesystem::path default_outbox_path() {
-  // systemd's StateDirectory= (its first entry), else the unit's own.
-  if (const char* state = std::getenv("STATE_DIRECTORY"); state && *state) {
-    std::string first(state);
-    first = first.substr(0, first.find(':'));
-    return std::filesystem::path(first) / "mqtt-outbox.db";
-  }
-  return "/var/lib/spinewatch/mqtt-outbox.db";
+Result<std::filesystem::path> default_outbox_path() {
+  return default_station_file(StationDir::State, "mqtt-outbox.db", "mqtt.outbox_path");
 }
 
 }  // namespace
@@ -71,7 +66,13 @@ Result<std::optional<MqttOptions>> mqtt_options(const Config& config) {
   }
   o.posture_rate_hz = m.posture_rate_hz;
   o.qos = m.qos;
-  o.outbox_path = m.outbox_path.empty() ? default_outbox_path() : std::filesystem::path(m.outbox_path);
+  if (m.outbox_path.empty()) {
+    auto outbox = default_outbox_path();
+    if (!outbox) return outbox.error();
+    o.outbox_path = std::move(outbox).value();
+  } else {
+    o.outbox_path = m.outbox_path;
+  }
   o.outbox_max_messages = static_cast<std::size_t>(m.outbox_max_messages);
   o.keepalive_s = m.keepalive_s;
   o.reconnect_min_s = m.reconnect_min_s;

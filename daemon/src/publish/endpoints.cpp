@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/station_dirs.hpp"
 
 namespace spinewatch {
 
@@ -44,13 +45,8 @@ Result<unsigned> group_id(const std::string& name, std::string_view key) {
   return static_cast<unsigned>(found->gr_gid);
 }
 
-std::filesystem::path default_unix_socket_path() {
-  // systemd sets RUNTIME_DIRECTORY from RuntimeDirectory=, colon-separated when several.
-  if (const char* dirs = std::getenv("RUNTIME_DIRECTORY"); dirs != nullptr && *dirs != '\0') {
-    const std::string first = std::string(dirs).substr(0, std::string(dirs).find(':'));
-    return std::filesystem::path(first) / "posture.sock";
-  }
-  return "/run/spinewatch/posture.sock";
+Result<std::filesystem::path> default_unix_socket_path() {
+  return default_station_file(StationDir::Runtime, "posture.sock", "publish.unix_socket");
 }
 
 }  // namespace spinewatch

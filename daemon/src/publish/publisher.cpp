@@ -250,7 +250,8 @@ Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::o
   unix_socket::acceptor acceptor(io);
   if (acceptor.open(unix_socket(), ec); ec) return Error{fmt::format("unix socket {}: {}", path.string(), ec.message())};
   if (acceptor.bind(unix_socket::endpoint(path.string()), ec); ec)
-    return Error{fmt::format("unix socket {}: cannot bind: {}", path.string(), ec.message())};
+    return Error{fmt::format("unix socket {}: cannot bind: {} (--unix PATH or [publish] unix_socket chooses another "
+                             "path, --unix none turns the socket off)", path.string(), ec.message())};
   if (::chmod(path.c_str(), 0660) != 0)
     return Error{fmt::format("unix socket {}: cannot set mode 0660: {}", path.string(), std::strerror(errno))};
   // Readers in that group (systemd: SupplementaryGroups=) may connect; a

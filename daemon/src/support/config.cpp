@@ -1,5 +1,6 @@
 #include "spinewatch/daemon/config.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <set>
@@ -11,6 +12,7 @@
 #include "spinewatch/daemon/mqtt_url.hpp"
 #include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
+#include "nearest_name.hpp"
 
 namespace spinewatch {
 namespace {
@@ -293,9 +295,31 @@ std::vector<std::string> config_keys() {
   return names;
 }
 
+namespace {
+
+std::vector<std::string> config_sections() {
+  std::vector<std::string> sections;
+  for (const std::string& key : config_keys()) {
+    std::string section = key.substr(0, key.find('.'));
+    if (std::find(sections.begin(), sections.end(), section) == sections.end()) sections.push_back(std::move(section));
+  }
+  return sections;
+}
+
+// "; did you mean X?" for a mistyped name near a known one (a typo of the
+// key's own name, after its section), else nothing.
+std::string did_you_mean(std::string_view typed, const std::vector<std::string>& known, std::string_view open = "",
+                         std::string_view close = "") {
+  const std::string_view own = typed.substr(typed.rfind('.') + 1);
+  const auto nearest = nearest_name(typed, known, typo_allowance(own));
+  return nearest ? fmt::format("; did you mean {}{}{}?", open, *nearest, close) : std::string();
+}
+
+}  // namespace
+
 // Keys renamed since they were released, with their new names.
 constexpr std::pair<std::string_view, std::string_view> kRenamedKeys[] = {
-    {"cvsm.refine_sweeps", "cvsm.refine_steps"},  // session 14: Gauss–Newton steps replaced the sweeps
+    {"cvsm.refine_sweeps", "cvsm.refine_steps"},  // Gauss–Newton steps replaced the sweeps
 };
 
 Result<Config> parse_config(std::string_view text, std::string_view source) {
@@ -315,7 +339,8 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
       return Error{fmt::format("{}: {}: unknown key", at(source, section), section_name)};
     }
     if (!known_section(section_name))
-      return Error{fmt::format("{}: [{}]: unknown section", at(source, section), section_name)};
+      return Error{fmt::format("{}: [{}]: unknown section{}", at(source, section), section_name,
+                               did_you_mean(section_name, config_sections(), "[", "]"))};
     for (const auto& [key, value] : *section.as_table()) {
       const std::string name = section_name + "." + printable(key.str());
       const Key* k = find_key(name);
@@ -323,7 +348,7 @@ Result<Config> parse_config(std::string_view text, std::string_view source) {
         // A key a release renamed: the message says what to write instead.
         for (const auto& [was, now] : kRenamedKeys)
           if (name == was) return Error{fmt::format("{}: {}: unknown key; it is now {}", at(source, value), name, now)};
-        return Error{fmt::format("{}: {}: unknown key", at(source, value), name)};
+        return Error{fmt::format("{}: {}: unknown key{}", at(source, value), name, did_you_mean(name, config_keys()))};
       }
       if (auto problem = k->set(config, value))
         return Error{fmt::format("{}: {}: {}", at(source, value), name, *problem)};

@@ -80,7 +80,7 @@ Result<BoardPose> locate_board(const CalibrationBoard& board, const CameraModel&
   return pose;
 }
 
-// The world frame of interfaces.md §1 in board coordinates: the board
+// The world frame of docs/interfaces.md §1 in board coordinates: the board
 // gives up (its normal on the floor, its upward edge upright) and the
 // origin; X is the horizontal direction from the origin towards the
 // frontal camera, Z = X × Y (the subject's right).
@@ -272,7 +272,7 @@ StationCalibration calibrate_station(const CalibrationBoard& board, const std::a
           placement.kind == Placement::Upright ? ", --board-centre-height" : ""));
   if (report.cameras[1].centre.z() < 0)
     report.warnings.push_back(fmt::format(
-        "the lateral camera is on the subject's left (z = {:.0f} mm); interfaces.md §1 puts it on the right",
+        "the lateral camera is on the subject's left (z = {:.0f} mm); docs/interfaces.md §1 puts it on the right",
         report.cameras[1].centre.z()));
   return out;
 }

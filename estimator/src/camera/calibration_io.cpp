@@ -1,6 +1,6 @@
 // calibration.yaml through cv::FileStorage, so that files written by
 // OpenCV tools (and by us) read back exactly. Besides the project's own
-// keys (interfaces.md §2) a camera node may use the keys of OpenCV's
+// keys (docs/interfaces.md §2) a camera node may use the keys of OpenCV's
 // calibration samples and tools; each quantity has one accepted set of
 // spellings and a node that gives two of them is an error, not a guess.
 #include <fmt/format.h>

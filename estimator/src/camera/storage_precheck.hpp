@@ -9,7 +9,7 @@
 namespace spinewatch {
 
 // Which FileStorage formats a reader takes: calibration.yaml is YAML
-// (interfaces.md §2); one camera's intrinsics from OpenCV's samples may be
+// (docs/interfaces.md §2); one camera's intrinsics from OpenCV's samples may be
 // XML too (the calibration tutorial writes out_camera_data.xml).
 enum class StorageFormats : std::uint8_t { YamlOnly, YamlOrXml };
 

@@ -12,7 +12,7 @@
 // residuals are many (a thousand ends) and the parameters eight: each
 // parameter's derivative is one more scan with it nudged, a step solves
 // an 8 × 8 system, where a sweep of one-parameter trials on the XOR
-// (session 13's first refinement) took 25 evaluations for the same gain.
+// (an earlier form of this refinement) took 25 evaluations for the same gain.
 //
 // The distances are Huber-weighted (quadratic within huber_px, linear
 // beyond): an arm the silhouette lacks, or a shadow it has, pulls no harder

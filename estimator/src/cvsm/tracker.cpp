@@ -526,7 +526,7 @@ CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteR
     if (s->status == SilhouetteStatus::LearningBackground || s->status == SilhouetteStatus::NoBackground ||
         s->status == SilhouetteStatus::NoPerson) {
       CvsmResult r = impl_->no_person(to_string(s->status));
-      // No background yet: not lost, still starting up (interfaces.md §3, init).
+      // No background yet: not lost, still starting up (docs/interfaces.md §3, init).
       if (s->status != SilhouetteStatus::NoPerson) r.state = TrackingState::Init;
       return r;
     }

@@ -306,7 +306,7 @@ Posture PostureEstimator::process(const FramePair& pair) {
   posture.neck_dir = fit.neck_dir;
   posture.waist_dir = fit.waist_dir;
   if (fit.state == TrackingState::Init) {
-    // Provisional (interfaces.md §3): the CVSM's own estimate while the
+    // Provisional (docs/interfaces.md §3): the CVSM's own estimate while the
     // subject's model is being built.
     posture.neck = fit.neck;
     posture.waist = fit.waist;

@@ -10,7 +10,7 @@
 namespace spinewatch {
 namespace {
 using nlohmann::json;
-// Output keeps the documented field order (class, v, seq, … as in interfaces.md §3).
+// Output keeps the documented field order (class, v, seq, … as in docs/interfaces.md §3).
 using ojson = nlohmann::ordered_json;
 
 // Positions to 0.01 mm and quaternions to 1e-6 are far below what the

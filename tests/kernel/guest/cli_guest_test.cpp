@@ -78,7 +78,7 @@ TEST(CLI, RecordReplay) {
   while (std::getline(in, line)) {
     auto posture = decode_posture(line, out.string() + ":" + std::to_string(lines + 1));
     ASSERT_TRUE(posture.ok()) << posture.error().message;
-    // In replay, seq is the pair's sequence number in the recording (interfaces.md §3).
+    // In replay, seq is the pair's sequence number in the recording (docs/interfaces.md §3).
     EXPECT_TRUE(frontal_sequences.count(posture->seq)) << "line " << lines + 1 << ": seq " << posture->seq;
     if (last_seq) {
       EXPECT_GT(posture->seq, *last_seq) << "line " << lines + 1;

@@ -12,7 +12,7 @@ namespace spinewatch::exporting {
 namespace {
 
 // Root to tip, as OpenSim models list coordinates: L5 in the world (its
-// neutral orientation is the world's, interfaces.md §1), then each joint
+// neutral orientation is the world's, docs/interfaces.md §1), then each joint
 // from the lowest: joint i is vertebra i relative to vertebra i + 1.
 std::vector<std::string> joint_names() {
   std::vector<std::string> names{std::string(kVertebraNames[kWaistIndex])};

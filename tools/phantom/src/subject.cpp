@@ -26,7 +26,7 @@ class FieldReader {
   }
   // The key may be the file's own (an unknown field): quoted through
   // printable(), so that a line end in it cannot split the message (the
-  // phantom_subject fuzzer, session 11).
+  // phantom_subject fuzzer found it).
   Error error(std::string_view key, std::string_view problem) const {
     return Error{fmt::format("{}: {}: {}", source_, where(printable(key)), problem)};
   }

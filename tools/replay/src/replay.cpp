@@ -20,7 +20,11 @@ Result<CameraRig> recording_rig(const std::filesystem::path& dir, const ReplayOp
   const auto path = dir / "calibration.yaml";
   if (std::filesystem::exists(path)) return load_calibration(path);
   default_rig = true;
-  spdlog::info("{}: no calibration.yaml, using the default rig (docs/calibration.md)", dir.string());
+  // Not an error (the phantom's recordings are made on that rig), but the
+  // estimate is only right for a recording that was.
+  spdlog::warn("{}: no calibration.yaml: replaying on the default rig ({}; docs/calibration.md, \"The default rig\"); "
+               "if the recording was made on another rig, put its calibration.yaml in the directory or give --calibration",
+               dir.string(), CameraRig::kDefaultRigSummary);
   return CameraRig::default_rig();
 }
 
@@ -80,7 +84,7 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
 
   auto drain = [&]() -> Status {
     while (auto pair = pairer.pop()) {
-      // In replay, seq is the pair's sequence number in the recording (interfaces.md §3).
+      // In replay, seq is the pair's sequence number in the recording (docs/interfaces.md §3).
       pair->sequence = pair->frontal.sequence();
       const auto start = std::chrono::steady_clock::now();
       Posture posture = estimator.process(*pair);

@@ -120,7 +120,8 @@ std::string zone_figure(const ExposureSummary& total) {
     c.rect(c.plot_left(), y + row * 0.15, w, row * 0.7, kZoneColours[z],
            fmt::format("class=\"zone-bar\" data-zone=\"{}\" data-seconds=\"{:.6f}\"", zone_key(InclinationZone(z)), s));
     const double pct = total.tracked_s > 0 ? 100.0 * s / total.tracked_s : 0.0;
-    c.text(c.plot_left() + w + 6, y + row * 0.62, fmt::format("{:.1f} min · {:.1f} % of tracked", s / 60.0, pct),
+    c.text(c.plot_left() + w + 6, y + row * 0.62, fmt::format("{} · {:.1f} % of tracked",
+                                                             s < 60.0 ? fmt::format("{:.1f} s", s) : fmt::format("{:.1f} min", s / 60.0), pct),
            "start", 11);
   }
   return c.str();

@@ -10,7 +10,8 @@ namespace {
 
 constexpr const char* kZoneLabels[] = {"in extension", "at 0–20°", "at 20–60°", "beyond 60°"};
 
-std::string minutes(double s) { return fmt::format("{:.1f} min", s / 60.0); }
+// Minutes over a shift; seconds for the short recordings a first try makes (not "0.0 min").
+std::string minutes(double s) { return s < 60.0 ? fmt::format("{:.1f} s", s) : fmt::format("{:.1f} min", s / 60.0); }
 std::string share(double s, double of) { return of > 0 ? fmt::format("{:.1f} %", 100.0 * s / of) : "–"; }
 
 // The rows of the key-figures table, for one or two columns.

@@ -1,5 +1,5 @@
 #pragma once
-// The station's empty scene as files (interfaces.md §2): background_frontal.png
+// The station's empty scene as files (docs/interfaces.md §2): background_frontal.png
 // and background_lateral.png, 8-bit grey or colour, each the frames' width
 // × height. Colour is read into YUYV (luma and chroma, for the silhouette's
 // colour test) and written from it, through OpenCV's full-range BT.601

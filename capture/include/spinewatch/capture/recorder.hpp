@@ -1,6 +1,6 @@
 #pragma once
 // The capture loop of `spinewatch record`: every frame of two started
-// cameras, in driver order, into a recording directory (interfaces.md §2)
+// cameras, in driver order, into a recording directory (docs/interfaces.md §2)
 // with the driver's sequence numbers and timestamps, until a frame count,
 // a duration or stop(). One thread per camera, so that a slow or silent
 // camera never holds up the other.

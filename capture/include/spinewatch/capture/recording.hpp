@@ -1,5 +1,5 @@
 #pragma once
-// Recording directories (interfaces.md §2): frontal.raw + lateral.raw as
+// Recording directories (docs/interfaces.md §2): frontal.raw + lateral.raw as
 // v4l2-ctl --stream-mmap --stream-to=FILE writes them (whole frames, no
 // headers), recording.json, calibration.yaml.
 #include <cstdint>

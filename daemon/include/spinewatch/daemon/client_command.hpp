@@ -1,5 +1,5 @@
 #pragma once
-// The commands a station's clients may send (interfaces.md §5: what they
+// The commands a station's clients may send (docs/interfaces.md §5: what they
 // send changes nothing unless a documented command says so;
 // docs/protocol.md, "Commands"). One JSON object per line; the daemon
 // answers the sender alone with a "reply" line.

@@ -1,5 +1,5 @@
 #pragma once
-// The station's TOML configuration (interfaces.md §6). Every key, its type,
+// The station's TOML configuration (docs/interfaces.md §6). Every key, its type,
 // default and range is declared once in config_keys.cpp; config/spinewatch.toml
 // is the annotated copy, and a test keeps the two in step.
 #include <filesystem>
@@ -155,7 +155,7 @@ struct Config {
     bool operator==(const Storage&) const = default;
   } storage;
   struct Http {
-    // The live view and /metrics (interfaces.md §5): HOST:PORT, or "" / "none" = off.
+    // The live view and /metrics (docs/interfaces.md §5): HOST:PORT, or "" / "none" = off.
     std::string listen = "";
     // Like publish.allow_unauthenticated, for the HTTP server: a non-loopback
     // address is refused at start unless this is true.
@@ -176,7 +176,7 @@ struct Config {
   } log;
 
   struct Mqtt {
-    // The site's MQTT broker (interfaces.md §7, docs/fleet.md):
+    // The site's MQTT broker (docs/interfaces.md §7, docs/fleet.md):
     // "mqtt://HOST:PORT" or "mqtts://HOST:PORT"; "" = off.
     std::string url = "";
     std::string ca_file = "";    // mqtts: the CA that signed the broker's certificate; "" = the system's CAs

@@ -35,6 +35,16 @@ struct PostureCounts {
   std::uint64_t tracking_lost = 0;          // tracking → lost transitions
 };
 
+// A recording with ground truth (the phantom's): how far the tracked
+// postures are from it, running means in mm (docs/daemon.md, "Live view").
+struct TruthScoreStats {
+  std::uint64_t pairs = 0;               // tracked pairs scored
+  std::uint64_t pairs_not_tracking = 0;  // pairs with a truth but no tracked posture (init, lost)
+  double vertebrae_mean_mm = 0;          // every vertebra's body centre, mean over vertebrae and pairs
+  double neck_mean_mm = 0, waist_mean_mm = 0;
+  double last_vertebrae_mm = 0;  // the last scored pair's
+};
+
 struct DaemonMetrics {
   PipelineStats pipeline;
   PublisherStats publisher;
@@ -44,6 +54,7 @@ struct DaemonMetrics {
   LiveViewStats live;
   HttpStats http;
   std::optional<MqttStats> mqtt;  // with [mqtt] url set (docs/fleet.md)
+  std::optional<TruthScoreStats> truth;  // replaying a recording with ground_truth.ndjson
   double pairs_per_s = 0;  // over the last second
   double uptime_s = 0;
 };

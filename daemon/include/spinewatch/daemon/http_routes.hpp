@@ -1,5 +1,5 @@
 #pragma once
-// What each HTTP request target of the live view asks for (interfaces.md
+// What each HTTP request target of the live view asks for (docs/interfaces.md
 // §5), decided once per request; ustreamer's /?action=stream and
 // /?action=snapshot are the same as /stream and /snapshot.
 #include <string_view>

@@ -1,5 +1,5 @@
 #pragma once
-// The daemon's HTTP server (interfaces.md §5; docs/daemon.md, "Live view"):
+// The daemon's HTTP server (docs/interfaces.md §5; docs/daemon.md, "Live view"):
 // the live view page, /stream (MJPEG), /snapshot, /state, /metrics and
 // POST /background/relearn, with Boost.Beast on an existing io_context
 // (the publisher's I/O thread), never on the estimator thread.

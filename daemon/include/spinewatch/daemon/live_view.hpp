@@ -1,5 +1,5 @@
 #pragma once
-// The live view's pictures (interfaces.md §5, /stream and /snapshot): what
+// The live view's pictures (docs/interfaces.md §5, /stream and /snapshot): what
 // the estimator saw and fitted, drawn (spinewatch/overlay) and encoded as
 // JPEG on a thread of its own, at most `fps` times a second and only while
 // someone wants it — so that viewers cost the pipeline nothing measurable.

@@ -1,5 +1,5 @@
 #pragma once
-// Publishes the station to the site's MQTT broker (interfaces.md §7,
+// Publishes the station to the site's MQTT broker (docs/interfaces.md §7,
 // docs/fleet.md) on a thread of its own, with libmosquitto:
 //   spinewatch/<station>/status   retained "online"; "offline" as the last will
 //   spinewatch/<station>/summary  summary lines, QoS 1, through the outbox
@@ -42,8 +42,9 @@ struct MqttOptions {
 // [mqtt] → options, nothing when url is "". Reads password_file (refused
 // when group or others may read it) and checks that the TLS files can be
 // read, so that a mistake stops the daemon at start with the key named.
-// An empty outbox_path is $STATE_DIRECTORY/mqtt-outbox.db (systemd's
-// StateDirectory), else /var/lib/spinewatch/mqtt-outbox.db.
+// An empty outbox_path is mqtt-outbox.db in the state directory:
+// $STATE_DIRECTORY (systemd), else /var/lib/spinewatch when writable, else
+// the user's $XDG_STATE_HOME/spinewatch or ~/.local/state/spinewatch.
 Result<std::optional<MqttOptions>> mqtt_options(const Config& config);
 
 struct MqttStats {

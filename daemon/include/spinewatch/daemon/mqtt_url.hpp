@@ -1,5 +1,5 @@
 #pragma once
-// The pieces of [mqtt] that are pure text (interfaces.md §7, docs/fleet.md):
+// The pieces of [mqtt] that are pure text (docs/interfaces.md §7, docs/fleet.md):
 // the broker's URL, the station's name made safe for a topic, and the
 // reconnection back-off. In daemon support, where the configuration is
 // parsed, so that a bad URL is refused with its key and line.

@@ -26,8 +26,8 @@ class Pseudonyms {
   std::string secret_;  // the file's 64 hex digits, used as the HMAC key as they are
 };
 
-// $STATE_DIRECTORY/pseudonym.key (systemd's StateDirectory=, its first
-// entry), else /var/lib/spinewatch/pseudonym.key.
-std::filesystem::path default_secret_path();
+// pseudonym.key in the state directory: $STATE_DIRECTORY (systemd), else
+// /var/lib/spinewatch when writable, else the user's (station_dirs.hpp).
+Result<std::filesystem::path> default_secret_path();
 
 }  // namespace spinewatch

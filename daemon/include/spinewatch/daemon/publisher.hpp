@@ -1,6 +1,6 @@
 #pragma once
 // Publishes NDJSON lines to every client of a TCP port and a Unix socket,
-// on its own Boost.Asio thread (interfaces.md §5). Each client gets the hello
+// on its own Boost.Asio thread (docs/interfaces.md §5). Each client gets the hello
 // line first, then every published line in order. A client that does not
 // keep up overflows its bounded queue and is dropped; what clients send is
 // cut into lines for the command handler (or thrown away without one), and
@@ -82,8 +82,9 @@ Result<TcpEndpoint> parse_listen_address(const std::string& text);
 bool is_loopback(const TcpEndpoint& endpoint);
 // A group's id by name (publish.unix_socket_group); errors name `key` and the group.
 Result<unsigned> group_id(const std::string& name, std::string_view key);
-// $RUNTIME_DIRECTORY/posture.sock (its first entry), else /run/spinewatch/posture.sock.
-std::filesystem::path default_unix_socket_path();
+// posture.sock in the runtime directory: $RUNTIME_DIRECTORY (systemd), else
+// /run/spinewatch when writable, else the user's (station_dirs.hpp).
+Result<std::filesystem::path> default_unix_socket_path();
 
 class Publisher {
  public:

@@ -1,5 +1,5 @@
 #pragma once
-// Which frames the daemon runs on (interfaces.md §6, config [cameras]):
+// Which frames the daemon runs on (docs/interfaces.md §6, config [cameras]):
 // the two cameras, a recording, or the embedded default — a phantom
 // recording replayed in a loop — when no cameras are attached.
 #include <filesystem>

@@ -1,7 +1,8 @@
 #pragma once
 // Pinhole camera with OpenCV's distortion model and conventions
-// (interfaces.md §2): x_cam = R · X_world + t, millimetres.
+// (docs/interfaces.md §2): x_cam = R · X_world + t, millimetres.
 #include <array>
+#include <string_view>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -60,6 +61,9 @@ struct CameraRig {
   // world Y axis at a height of 1100 mm; frontal on +X looking along −X,
   // lateral on +Z (the subject's right) looking along −Z.
   static CameraRig default_rig();
+  // That rig in one phrase, for the warning that it is used.
+  static constexpr std::string_view kDefaultRigSummary =
+      "two ideal orthogonal cameras 2 m from the subject at 1.1 m height, 300 px focal length, 320x240, no distortion";
 };
 
 // calibration.yaml (OpenCV FileStorage): nodes `frontal` and `lateral`,

@@ -1,5 +1,5 @@
 #pragma once
-// The result for one frame pair (interfaces.md §3).
+// The result for one frame pair (docs/interfaces.md §3).
 #include <array>
 #include <cstdint>
 #include <optional>

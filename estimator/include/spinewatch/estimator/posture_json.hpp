@@ -1,5 +1,5 @@
 #pragma once
-// The NDJSON posture stream, schema version 1 (interfaces.md §3;
+// The NDJSON posture stream, schema version 1 (docs/interfaces.md §3;
 // docs/posture.schema.json). Encoding is one line without the newline.
 #include <string>
 #include <string_view>

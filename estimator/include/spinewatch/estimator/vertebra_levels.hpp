@@ -5,7 +5,7 @@
 
 namespace spinewatch {
 
-// Levels top to bottom (interfaces.md §1).
+// Levels top to bottom (docs/interfaces.md §1).
 inline constexpr std::size_t kVertebraCount = 17;
 inline constexpr std::array<std::string_view, kVertebraCount> kVertebraNames = {
     "T1", "T2", "T3", "T4",  "T5",  "T6", "T7", "T8", "T9",

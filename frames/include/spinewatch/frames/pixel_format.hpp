@@ -7,7 +7,7 @@
 
 namespace spinewatch {
 
-// The formats a recording or a camera may deliver (interfaces.md §2).
+// The formats a recording or a camera may deliver (docs/interfaces.md §2).
 enum class PixelFormat : std::uint8_t { YUYV, GREY };
 
 std::string_view to_string(PixelFormat format);

@@ -1,5 +1,5 @@
 #pragma once
-// The station's two cameras (interfaces.md §1), one enum for every module:
+// The station's two cameras (docs/interfaces.md §1), one enum for every module:
 // recordings name their streams by it, the pairer keeps a queue per view,
 // the estimator a silhouette and a cost per view. The values index arrays
 // of two.

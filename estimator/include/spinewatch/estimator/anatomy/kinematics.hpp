@@ -2,7 +2,7 @@
 // Segmental kinematics of the spine: a posture as rotations at each
 // intervertebral joint plus a pelvis pose carrying L5.
 //
-// Angle conventions (degrees, world axes of interfaces.md §1):
+// Angle conventions (degrees, world axes of docs/interfaces.md §1):
 //   flexion  > 0: forward bend, the upper vertebra rotates about −Z
 //            (its Y axis tips toward +X, anterior);
 //   lateral  > 0: bend to the subject's right, rotation about +X

@@ -47,7 +47,7 @@ std::string_view generic_spine_toml();
 // The neutral standing pose of a subject of `height_mm` whose L5 body centre
 // is at `l5_center`: body centres in the sagittal plane through L5 following
 // the kyphosis and lordosis of the spec, spacings scaled by
-// height / reference height, all orientations identity (interfaces.md §1).
+// height / reference height, all orientations identity (docs/interfaces.md §1).
 SpinePose neutral_pose(const SpineSpec& spec, double height_mm, const Eigen::Vector3d& l5_center);
 // Same, with the L5 height from the spec (x = z = 0).
 SpinePose neutral_pose(const SpineSpec& spec, double height_mm);

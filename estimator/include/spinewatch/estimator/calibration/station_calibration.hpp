@@ -1,7 +1,7 @@
 #pragma once
 // Calibrating a station (docs/calibration.md): each camera's intrinsics
 // from views of the board held at several poses, then both cameras in the
-// world frame of interfaces.md §1 from the board placed where the subject
+// world frame of docs/interfaces.md §1 from the board placed where the subject
 // will stand. Pure computation on grey images; reading recordings and
 // writing calibration.yaml is the caller's.
 #include <array>

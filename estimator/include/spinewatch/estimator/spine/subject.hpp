@@ -1,5 +1,5 @@
 #pragma once
-// A subject's neutral spine (SUBJECT.json, interfaces.md §4):
+// A subject's neutral spine (SUBJECT.json, docs/interfaces.md §4):
 // {"vertebrae": [{"name": "T1", "body_center": [x,y,z], "q": [w,x,y,z],
 //   "height_mm": h, "width_mm": w, "depth_mm": d}, … T1…L5]}
 #include <array>

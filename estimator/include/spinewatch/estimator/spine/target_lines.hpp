@@ -1,5 +1,5 @@
 #pragma once
-// The targets file of `spinewatch deform` (interfaces.md §4): NDJSON, one
+// The targets file of `spinewatch deform` (docs/interfaces.md §4): NDJSON, one
 // object a line — "neck" and "waist" ([x, y, z] mm, T1 and L5 body
 // centres), optionally "neck_dir"/"waist_dir" (unit vectors), "seq" and
 // "t_ns". Parsed from text here; the CLI reads the file.

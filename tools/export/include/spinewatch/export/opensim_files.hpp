@@ -6,7 +6,7 @@
 //              rotation (degrees), L4_L5 up to T1_T2;
 //   spine.trc  markers T1…L5 at the vertebral body centres, mm.
 // OpenSim's ground frame (X forward, Y up, Z right) is the ISB frame of
-// interfaces.md §1 already: coordinates are written as they are.
+// docs/interfaces.md §1 already: coordinates are written as they are.
 #include <cstdint>
 #include <optional>
 #include <string>
