@@ -19,7 +19,7 @@ std::string create_error(const BoardSpec& spec) {
 
 TEST(CalibrationBoard, BadBoardsAreNamed) {
   EXPECT_EQ(create_error({.marker_mm = 150}), "board: marker size 150 mm must be positive and smaller than the square (150 mm)");
-  EXPECT_EQ(create_error({.dictionary = "DICT_9X9_50"}), "board: unknown dictionary 'DICT_9X9_50' (DICT_4X4_50 … DICT_7X7_1000)");
+  EXPECT_EQ(create_error({.dictionary = "DICT_9X9_50"}), "board: unknown dictionary 'DICT_9X9_50' (DICT_4X4_50 … DICT_7X7_1000, DICT_ARUCO_ORIGINAL, DICT_APRILTAG_16h5, _25h9, _36h10, _36h11)");
   EXPECT_EQ(create_error({.squares_x = 2}), "board: 2x7 squares; give 3 to 40 squares each way");
   EXPECT_EQ(create_error({.squares_x = 12, .squares_y = 10}), "board: 12x10 squares need 60 markers but DICT_4X4_50 has 50");
   EXPECT_NE(create_error({.kind = BoardKind::Chessboard, .squares_x = 7, .squares_y = 7}).find("looks the same turned by 90°"),
@@ -56,6 +56,32 @@ TEST(CalibrationBoard, CharucoCornersAreFoundWhereDrawn) { expect_found_where_dr
 
 TEST(CalibrationBoard, ChessboardCornersAreFoundWhereDrawn) {
   expect_found_where_drawn({.kind = BoardKind::Chessboard, .squares_x = 8, .squares_y = 6, .square_mm = 100}, 0.5);
+}
+
+// A board printed with inverted colours (white markers on black squares,
+// caliscope's default) is found without being told, and says so.
+TEST(CalibrationBoard, InvertedBoardsAreFoundAndNamed) {
+  auto board = CalibrationBoard::create({});
+  ASSERT_TRUE(board);
+  const cv::Mat image = board->draw(0.6, 30);
+  cv::Mat inverted;
+  cv::bitwise_not(image, inverted);
+  const BoardDetection normal = board->detect(image), white = board->detect(inverted);
+  EXPECT_FALSE(normal.inverted);
+  EXPECT_TRUE(white.inverted);
+  EXPECT_EQ(int(white.ids.size()), board->corner_count());
+  for (std::size_t i = 0; i < white.ids.size(); ++i) EXPECT_NEAR(cv::norm(white.pixels[i] - normal.pixels[i]), 0, 0.05);
+  // Told the wrong colours first, it still finds the board.
+  EXPECT_EQ(int(board->detect(image, true).ids.size()), board->corner_count());
+}
+
+// AprilTag and the original ArUco dictionaries.
+TEST(CalibrationBoard, AprilTagAndOriginalArucoBoardsAreFound) {
+  for (const char* dictionary : {"DICT_APRILTAG_16h5", "DICT_APRILTAG_25h9", "DICT_APRILTAG_36h11", "DICT_ARUCO_ORIGINAL"})
+    expect_found_where_drawn({.squares_x = 4, .squares_y = 5, .square_mm = 150, .marker_mm = 115, .dictionary = dictionary},
+                             0.6);
+  EXPECT_EQ(create_error({.squares_x = 8, .squares_y = 8, .dictionary = "DICT_APRILTAG_16h5"}),
+            "board: 8x8 squares need 32 markers but DICT_APRILTAG_16h5 has 30");
 }
 
 TEST(CalibrationBoard, TooFewOrCollinearCornersAreNotUsable) {

@@ -17,7 +17,7 @@ struct NamedDictionary {
   const char* name;
   cv::aruco::PREDEFINED_DICTIONARY_NAME id;
 };
-constexpr std::array<NamedDictionary, 16> kDictionaries = {{
+constexpr std::array<NamedDictionary, 21> kDictionaries = {{
     {"DICT_4X4_50", cv::aruco::DICT_4X4_50},     {"DICT_4X4_100", cv::aruco::DICT_4X4_100},
     {"DICT_4X4_250", cv::aruco::DICT_4X4_250},   {"DICT_4X4_1000", cv::aruco::DICT_4X4_1000},
     {"DICT_5X5_50", cv::aruco::DICT_5X5_50},     {"DICT_5X5_100", cv::aruco::DICT_5X5_100},
@@ -26,7 +26,18 @@ constexpr std::array<NamedDictionary, 16> kDictionaries = {{
     {"DICT_6X6_250", cv::aruco::DICT_6X6_250},   {"DICT_6X6_1000", cv::aruco::DICT_6X6_1000},
     {"DICT_7X7_50", cv::aruco::DICT_7X7_50},     {"DICT_7X7_100", cv::aruco::DICT_7X7_100},
     {"DICT_7X7_250", cv::aruco::DICT_7X7_250},   {"DICT_7X7_1000", cv::aruco::DICT_7X7_1000},
+    {"DICT_ARUCO_ORIGINAL", cv::aruco::DICT_ARUCO_ORIGINAL},
+    {"DICT_APRILTAG_16h5", cv::aruco::DICT_APRILTAG_16h5},
+    {"DICT_APRILTAG_25h9", cv::aruco::DICT_APRILTAG_25h9},
+    {"DICT_APRILTAG_36h10", cv::aruco::DICT_APRILTAG_36h10},
+    {"DICT_APRILTAG_36h11", cv::aruco::DICT_APRILTAG_36h11},
 }};
+
+// Fewer corners than this in the colours tried first: the other colours are tried too.
+constexpr int kEnoughCorners = 4;
+
+// Images up to this wide get the second corner refinement (detect_charuco).
+constexpr int kRefineUpToWidth = 640;
 
 // The chessboard's inner corners, row by row (the order in which
 // cv::findChessboardCorners reports them).
@@ -39,6 +50,12 @@ std::vector<cv::Point3f> grid_corners(const BoardSpec& spec) {
 }
 
 }  // namespace
+
+std::vector<std::string> dictionary_names() {
+  std::vector<std::string> names;
+  for (const auto& d : kDictionaries) names.emplace_back(d.name);
+  return names;
+}
 
 Result<CalibrationBoard> CalibrationBoard::create(const BoardSpec& spec) {
   if (spec.squares_x < 3 || spec.squares_y < 3 || spec.squares_x > 40 || spec.squares_y > 40)
@@ -61,7 +78,7 @@ Result<CalibrationBoard> CalibrationBoard::create(const BoardSpec& spec) {
   const NamedDictionary* named = nullptr;
   for (const auto& d : kDictionaries)
     if (spec.dictionary == d.name) named = &d;
-  if (!named) return Error{fmt::format("board: unknown dictionary '{}' (DICT_4X4_50 … DICT_7X7_1000)", spec.dictionary)};
+  if (!named) return Error{fmt::format("board: unknown dictionary '{}' (DICT_4X4_50 … DICT_7X7_1000, DICT_ARUCO_ORIGINAL, DICT_APRILTAG_16h5, _25h9, _36h10, _36h11)", spec.dictionary)};
   board.dictionary_ = cv::aruco::getPredefinedDictionary(named->id);
   const int markers = (spec.squares_x * spec.squares_y) / 2;
   if (markers > board.dictionary_->bytesList.rows)
@@ -86,7 +103,7 @@ Eigen::Vector3d CalibrationBoard::centre() const {
   return sum / double(corners_.size());
 }
 
-BoardDetection CalibrationBoard::detect(const cv::Mat& grey) const {
+BoardDetection CalibrationBoard::detect(const cv::Mat& grey, bool inverted_first) const {
   BoardDetection found;
   if (spec_.kind == BoardKind::Chessboard) {
     const cv::Size pattern(spec_.squares_x - 1, spec_.squares_y - 1);
@@ -100,13 +117,31 @@ BoardDetection CalibrationBoard::detect(const cv::Mat& grey) const {
     for (int i = 0; i < corner_count(); ++i) found.ids.push_back(i);
     return found;
   }
+  // A board printed with inverted colours has white markers on black
+  // squares: the same board to the geometry, found by looking for the
+  // markers in the inverted image. Tried second, when the colours tried
+  // first gave too few corners (a camera that never sees the board pays
+  // for both).
+  BoardDetection best = detect_charuco(grey, inverted_first);
+  if (static_cast<int>(best.ids.size()) >= kEnoughCorners) return best;
+  BoardDetection other = detect_charuco(grey, !inverted_first);
+  if (other.ids.size() > best.ids.size() || (other.ids.size() == best.ids.size() && other.markers > best.markers))
+    return other;
+  return best;
+}
+
+BoardDetection CalibrationBoard::detect_charuco(const cv::Mat& grey, bool inverted) const {
+  BoardDetection found;
+  found.inverted = inverted;
+  cv::Mat image = grey;
+  if (inverted) cv::bitwise_not(grey, image);
   std::vector<std::vector<cv::Point2f>> marker_corners;
   std::vector<int> marker_ids;
   auto params = cv::aruco::DetectorParameters::create();
   // The corners that count are the chessboard's, refined by
   // interpolateCornersCharuco; the markers only identify them.
   params->cornerRefinementMethod = cv::aruco::CORNER_REFINE_NONE;
-  cv::aruco::detectMarkers(grey, dictionary_, marker_corners, marker_ids, params);
+  cv::aruco::detectMarkers(image, dictionary_, marker_corners, marker_ids, params);
   // Markers of the dictionary that are not on this board (another board in
   // view, or the wrong --squares) are left out.
   std::vector<std::vector<cv::Point2f>> on_board;
@@ -118,14 +153,19 @@ BoardDetection CalibrationBoard::detect(const cv::Mat& grey) const {
     }
   found.markers = static_cast<int>(on_board_ids.size());
   if (on_board_ids.empty()) return found;
-  cv::aruco::interpolateCornersCharuco(on_board, on_board_ids, grey, charuco_, found.pixels, found.ids);
+  cv::aruco::interpolateCornersCharuco(on_board, on_board_ids, image, charuco_, found.pixels, found.ids);
   // interpolateCornersCharuco refines each corner only within the gap
   // between it and the nearest marker, a pixel or two at this station's
   // resolution, and stops at 0.1 px: its corners keep up to half a pixel
   // of the markers' outline bias. Refined again on the chessboard corner
   // itself in a 5×5 window (the best of 3×3, 5×5 and 7×7 on the phantom's
-  // boards: docs/calibration.md, "How it is tested").
-  if (!found.pixels.empty())
+  // boards: docs/calibration.md, "How it is tested"). A saddle point is one
+  // in either colours. Only at the station's low resolutions: at 1280×720
+  // OpenCV's own window is several pixels wide, and a second 5×5 pass on
+  // real webcam footage pulled the corners off (caliscope's cam_1: fx 816
+  // against OpenCV's own 756 ± 28 on the same frames; docs/calibration.md,
+  // "The shared caliscope session").
+  if (!found.pixels.empty() && grey.cols <= kRefineUpToWidth)
     cv::cornerSubPix(grey, found.pixels, {2, 2}, {-1, -1},
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 40, 0.001));
   return found;
