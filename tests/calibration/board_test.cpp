@@ -66,7 +66,9 @@ TEST(CalibrationBoard, InvertedBoardsAreFoundAndNamed) {
   const cv::Mat image = board->draw(0.6, 30);
   cv::Mat inverted;
   cv::bitwise_not(image, inverted);
+  const cv::Mat untouched = inverted.clone();
   const BoardDetection normal = board->detect(image), white = board->detect(inverted);
+  EXPECT_EQ(cv::norm(inverted, untouched, cv::NORM_INF), 0) << "the caller's frame was changed";
   EXPECT_FALSE(normal.inverted);
   EXPECT_TRUE(white.inverted);
   EXPECT_EQ(int(white.ids.size()), board->corner_count());

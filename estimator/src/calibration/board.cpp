@@ -133,8 +133,12 @@ BoardDetection CalibrationBoard::detect(const cv::Mat& grey, bool inverted_first
 BoardDetection CalibrationBoard::detect_charuco(const cv::Mat& grey, bool inverted) const {
   BoardDetection found;
   found.inverted = inverted;
-  cv::Mat image = grey;
-  if (inverted) cv::bitwise_not(grey, image);
+  // A new image for the inverted colours: never the caller's frame.
+  cv::Mat image;
+  if (inverted)
+    cv::bitwise_not(grey, image);
+  else
+    image = grey;
   std::vector<std::vector<cv::Point2f>> marker_corners;
   std::vector<int> marker_ids;
   auto params = cv::aruco::DetectorParameters::create();

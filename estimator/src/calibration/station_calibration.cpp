@@ -319,9 +319,17 @@ StationCalibration calibrate_station(const CalibrationBoard& board, const std::a
   // The rig: the lateral camera from the frontal, from every frame both saw
   // the board in.
   std::optional<RelativePose> relative;
-  report.shared_views = count_shared_views(observed[0], observed[1]);
+  // The placement recording's frames are shared views too (both cameras
+  // see the board there by design), and usually the best of them.
+  std::array<FrameObservations, 2> shared = observed;
+  if (!frames[0].placement.empty() && frames[0].placement.size() == frames[1].placement.size())
+    for (int i = 0; i < 2; ++i) {
+      CameraReport scratch;
+      for (auto& o : observe_frames(board, frames[i].placement, limits, scratch)) shared[i].push_back(std::move(o));
+    }
+  report.shared_views = count_shared_views(shared[0], shared[1]);
   if (intrinsics[0] && intrinsics[1] && report.shared_views > 0) {
-    auto fitted = fit_relative_pose(board, {*intrinsics[0], *intrinsics[1]}, {&observed[0], &observed[1]},
+    auto fitted = fit_relative_pose(board, {*intrinsics[0], *intrinsics[1]}, {&shared[0], &shared[1]},
                                     limits.min_shared_views, image_size);
     if (fitted) {
       relative = *fitted;
