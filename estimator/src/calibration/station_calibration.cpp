@@ -321,7 +321,10 @@ StationCalibration calibrate_station(const CalibrationBoard& board, const std::a
   std::optional<RelativePose> relative;
   // The placement recording's frames are shared views too (both cameras
   // see the board there by design), and usually the best of them.
-  std::array<FrameObservations, 2> shared = observed;
+  std::array<FrameObservations, 2> shared;
+  if (frames[0].views_taken_together && frames[1].views_taken_together) shared = observed;
+  // Equal lengths, so that the placement's frames pair with each other.
+  for (auto& s : shared) s.resize(std::max(shared[0].size(), shared[1].size()));
   if (!frames[0].placement.empty() && frames[0].placement.size() == frames[1].placement.size())
     for (int i = 0; i < 2; ++i) {
       CameraReport scratch;

@@ -65,6 +65,10 @@ struct CameraFrames {
   std::vector<cv::Mat> views;
   std::vector<cv::Mat> placement;
   std::optional<CameraModel> intrinsics;
+  // False when view i of this camera was not taken with view i of the
+  // other (calibrate --live keeps each camera's own still frames): then
+  // only the placement's frames are shared views.
+  bool views_taken_together = true;
 };
 
 struct ViewError {
