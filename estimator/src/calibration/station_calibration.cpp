@@ -166,13 +166,26 @@ std::string misdescribed_board(const CalibrationBoard& board, const std::vector<
       return fmt::format(" — rows and columns are swapped: the board is {}x{} (columns x rows), give --squares {}x{}",
                          swapped.squares_x, swapped.squares_y, swapped.squares_x, swapped.squares_y);
   }
-  if (!found)
+  if (!found) {
+    // A census first, on at most 20 frames spread over the views: only a
+    // dictionary that finds the board in one of them is fitted (a camera
+    // that never saw any board costs 20 detections a dictionary, not a
+    // recording's worth).
+    std::vector<cv::Mat> sample;
+    const std::size_t step = std::max<std::size_t>(1, frames.size() / 20);
+    for (std::size_t i = 0; i < frames.size(); i += step) sample.push_back(frames[i]);
     for (const std::string& name : dictionary_names()) {
       if (name == spec.dictionary) continue;
       BoardSpec other = spec;
       other.dictionary = name;
-      if (fits(other)) return fmt::format(" — the markers are from {}: give --dictionary {}", name, name);
+      auto alternative = CalibrationBoard::create(other);
+      if (!alternative) continue;
+      const bool seen = std::any_of(sample.begin(), sample.end(), [&](const cv::Mat& frame) {
+        return alternative->usable(alternative->detect(frame), limits.min_corners);
+      });
+      if (seen && fits(other)) return fmt::format(" — the markers are from {}: give --dictionary {}", name, name);
     }
+  }
   return "";
 }
 
