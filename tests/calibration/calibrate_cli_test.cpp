@@ -193,6 +193,34 @@ TEST_F(CalibrateCli, OneCameraRefusedKeepsTheOthersIntrinsics) {
   EXPECT_NEAR(loaded->camera_matrix(0, 0), 300, 3);
 }
 
+// A tape-measured baseline the calibration disagrees with: a wrong square
+// size, named with the size that would agree.
+TEST_F(CalibrateCli, AWrongSquareSizeIsRefusedAgainstTheMeasuredBaseline) {
+  test::TempDir dir;
+  auto r = test::run_cli(args() + " --baseline-mm 3500 --out " + (dir / "cal.yaml").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("mm apart by the calibration but 3500 mm by --baseline-mm"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not 150 mm as given: measure a square and give --square-mm"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "cal.yaml"));
+}
+
+// Views from video files: both or neither, and a file that is not a video.
+TEST(CalibrateVideo, UsageErrorsAndAnUnreadableVideo) {
+  test::TempDir dir;
+  auto one = test::run_cli("calibrate --frontal-video x.mp4 --board-centre-height 600");
+  EXPECT_EQ(one.exit_code, 2) << one.output;
+  EXPECT_NE(one.output.find("give both --frontal-video and --lateral-video"), std::string::npos) << one.output;
+  test::write_file(dir / "a.mp4", "not a video");
+  auto bad = test::run_cli("calibrate --frontal-video " + (dir / "a.mp4").string() + " --lateral-video " +
+                           (dir / "a.mp4").string() + " --board-centre-height 600");
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find((dir / "a.mp4").string() + ": cannot be read as a video"), std::string::npos) << bad.output;
+  auto missing = test::run_cli("calibrate --frontal-video /nonexistent.mp4 --lateral-video /nonexistent.mp4 "
+                               "--board-centre-height 600");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent.mp4: no such video file"), std::string::npos) << missing.output;
+}
+
 // calibrate's rules, applied by check to a file from elsewhere.
 TEST(CheckCalibration, AppliesCalibratesRules) {
   test::TempDir dir;

@@ -183,7 +183,16 @@ std::string misdescribed_board(const CalibrationBoard& board, const std::vector<
       const bool seen = std::any_of(sample.begin(), sample.end(), [&](const cv::Mat& frame) {
         return alternative->usable(alternative->detect(frame), limits.min_corners);
       });
-      if (seen && fits(other)) return fmt::format(" — the markers are from {}: give --dictionary {}", name, name);
+      if (seen && fits(other)) {
+        // DICT_NxN_50, _100, _250 and _1000 begin with the same markers: a
+        // board found with the smallest is of that family.
+        const bool family = name.size() > 3 && name.compare(name.size() - 3, 3, "_50") == 0;
+        return fmt::format(" — the markers are from {}{}: give --dictionary {}", name,
+                           family ? fmt::format(" (or {}_100, _250, _1000, which begin with the same markers)",
+                                                name.substr(0, name.size() - 3))
+                                  : std::string(),
+                           name);
+      }
     }
   }
   return "";
@@ -363,7 +372,10 @@ StationCalibration calibrate_station(const CalibrationBoard& board, const std::a
   // The world frame: the placement recording, or a still stretch of the views.
   std::array<std::vector<cv::Mat>, 2> placement_frames = {frames[0].placement, frames[1].placement};
   report.world_from = "the placement recording";
+  // (Not looked for in the views when a camera has no intrinsics: there is
+  // nothing to place, and the refusal above says why.)
   if (placement_frames[0].empty() && placement_frames[1].empty()) {
+    if (!intrinsics[0] || !intrinsics[1]) return out;
     std::vector<const FrameObservations*> needed;
     if (relative) {
       needed = {&observed[0]};
