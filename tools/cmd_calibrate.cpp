@@ -97,6 +97,7 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
     std::string views, placement, out = "calibration.yaml";
     std::string videos[2];
     std::string aspect = "square";
+    bool legacy = false;
     std::string board = "charuco", squares = "5x7", dictionary = "DICT_4X4_50";
     double square_mm = 150, marker_mm = 115;
     std::string place = "upright";
@@ -134,6 +135,9 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
                   "ArUco dictionary of the markers (ChArUco): DICT_{4,5,6,7}X{4,5,6,7}_{50,100,250,1000}, "
                   "DICT_ARUCO_ORIGINAL, DICT_APRILTAG_16h5, _25h9, _36h10, _36h11")
       ->capture_default_str();
+  cmd->add_flag("--legacy", opts->legacy,
+               "ChArUco: the layout of OpenCV before 4.6 (with an even number of rows, a marker in the top left "
+               "square)");
   cmd->add_option("--aspect", opts->aspect,
                   "square: refuse fy/fx more than 5 % from 1 (webcams); free: any (anamorphic lenses)")
       ->check(CLI::IsMember({"square", "free"}))
@@ -217,7 +221,8 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
                    .squares_y = squares->height,
                    .square_mm = opts->square_mm,
                    .marker_mm = opts->marker_mm,
-                   .dictionary = opts->dictionary};
+                   .dictionary = opts->dictionary,
+                   .legacy = opts->legacy};
     auto board = CalibrationBoard::create(spec);
     if (!board) return usage(board.error().message);
 

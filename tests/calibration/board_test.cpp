@@ -4,6 +4,9 @@
 
 #include <algorithm>
 
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "spinewatch/estimator/calibration/board.hpp"
@@ -75,6 +78,52 @@ TEST(CalibrationBoard, InvertedBoardsAreFoundAndNamed) {
   for (std::size_t i = 0; i < white.ids.size(); ++i) EXPECT_NEAR(cv::norm(white.pixels[i] - normal.pixels[i]), 0, 0.05);
   // Told the wrong colours first, it still finds the board.
   EXPECT_EQ(int(board->detect(image, true).ids.size()), board->corner_count());
+}
+
+// How far the corners found are from where a homography of the board's
+// plane puts them (px RMS): small when the board's layout is the printed
+// one, large when its corners are named after the wrong markers.
+double off_the_plane(const CalibrationBoard& board, const cv::Mat& image) {
+  const BoardDetection found = board.detect(image);
+  if (found.ids.size() < 4) return INFINITY;
+  std::vector<cv::Point2f> plane;
+  for (int id : found.ids) plane.emplace_back(board.corner(id).x, board.corner(id).y);
+  const cv::Mat H = cv::findHomography(plane, found.pixels, 0);
+  std::vector<cv::Point2f> mapped;
+  cv::perspectiveTransform(plane, mapped, H);
+  double sum = 0;
+  for (std::size_t i = 0; i < mapped.size(); ++i) sum += std::pow(cv::norm(mapped[i] - found.pixels[i]), 2);
+  return std::sqrt(sum / double(mapped.size()));
+}
+
+// The legacy layout (OpenCV before 4.6, an even number of rows): drawn
+// with a marker in the top left square, found where drawn; read with
+// today's layout its corners are named after the wrong markers, and the
+// other way round.
+TEST(CalibrationBoard, LegacyLayoutIsFoundWhereDrawn) {
+  const BoardSpec legacy{.squares_x = 5, .squares_y = 6, .square_mm = 150, .marker_mm = 115, .legacy = true};
+  expect_found_where_drawn(legacy, 0.6);
+  auto old_board = CalibrationBoard::create(legacy);
+  BoardSpec today = legacy;
+  today.legacy = false;
+  auto new_board = CalibrationBoard::create(today);
+  ASSERT_TRUE(old_board && new_board);
+  const cv::Mat old_image = old_board->draw(0.6, 30), new_image = new_board->draw(0.6, 30);
+  // The top left square: white with a marker in the legacy layout, black today.
+  const cv::Point inside(int(30 * 0.6 + 5), int(30 * 0.6 + 5));
+  EXPECT_EQ(old_image.at<std::uint8_t>(inside), 255);
+  EXPECT_EQ(new_image.at<std::uint8_t>(inside), 0);
+  EXPECT_LT(off_the_plane(*old_board, old_image), 0.2);
+  EXPECT_LT(off_the_plane(*new_board, new_image), 0.2);
+  EXPECT_GT(off_the_plane(*new_board, old_image), 2.0);
+  EXPECT_GT(off_the_plane(*old_board, new_image), 2.0);
+  // An odd number of rows is the same in both.
+  auto odd = CalibrationBoard::create({.squares_x = 4, .squares_y = 5, .square_mm = 150, .marker_mm = 115, .legacy = true});
+  ASSERT_TRUE(odd);
+  EXPECT_EQ(int(odd->detect(CalibrationBoard::create({.squares_x = 4, .squares_y = 5, .square_mm = 150, .marker_mm = 115})
+                                ->draw(0.6, 30))
+                    .ids.size()),
+            odd->corner_count());
 }
 
 // AprilTag and the original ArUco dictionaries.

@@ -49,6 +49,53 @@ std::vector<cv::Point3f> grid_corners(const BoardSpec& spec) {
   return corners;
 }
 
+// OpenCV 4.6's CharucoBoard has no legacy layout (setLegacyPattern came
+// with 4.8): the markers are moved to the other squares here, keeping
+// OpenCV's coordinates (x right, y down the printed board, ids row by row
+// from the top left) and each marker's place within its square, and the
+// corners' nearest markers, which interpolateCornersCharuco reads, are
+// worked out again for the new places.
+void make_legacy(cv::aruco::CharucoBoard& board, const BoardSpec& spec) {
+  const float square = float(spec.square_mm);
+  // Marker 0 of OpenCV's layout sits in square (1, 0): its offset in a square.
+  const cv::Point3f offset = board.objPoints[0][0] - cv::Point3f(square, 0, 0);
+  std::vector<std::vector<cv::Point3f>> markers;
+  for (int y = 0; y < spec.squares_y; ++y)
+    for (int x = 0; x < spec.squares_x; ++x) {
+      if ((x + y) % 2 != 0) continue;  // the black squares of the legacy layout (even rows)
+      std::vector<cv::Point3f> corners;
+      for (const cv::Point3f& c : board.objPoints[0])
+        corners.push_back(c - board.objPoints[0][0] + offset + cv::Point3f(float(x) * square, float(y) * square, 0));
+      markers.push_back(std::move(corners));
+    }
+  board.objPoints = markers;
+  board.ids.resize(markers.size());
+  for (std::size_t i = 0; i < markers.size(); ++i) board.ids[i] = static_cast<int>(i);
+  // Each corner's nearest markers (two inside the board, one at its edge)
+  // and, of each, its nearest corner.
+  board.nearestMarkerIdx.assign(board.chessboardCorners.size(), {});
+  board.nearestMarkerCorners.assign(board.chessboardCorners.size(), {});
+  for (std::size_t c = 0; c < board.chessboardCorners.size(); ++c) {
+    const cv::Point3f& corner = board.chessboardCorners[c];
+    std::vector<double> distance(markers.size());
+    double nearest = INFINITY;
+    for (std::size_t m = 0; m < markers.size(); ++m) {
+      const cv::Point3f centre = (markers[m][0] + markers[m][2]) * 0.5f;
+      distance[m] = cv::norm(centre - corner);
+      nearest = std::min(nearest, distance[m]);
+    }
+    for (std::size_t m = 0; m < markers.size(); ++m) {
+      if (distance[m] > nearest + 0.01 * square) continue;
+      int closest = 0;
+      for (int k = 1; k < 4; ++k)
+        if (cv::norm(markers[m][std::size_t(k)] - corner) < cv::norm(markers[m][std::size_t(closest)] - corner))
+          closest = k;
+      board.nearestMarkerIdx[c].push_back(static_cast<int>(m));
+      board.nearestMarkerCorners[c].push_back(closest);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> dictionary_names() {
@@ -86,6 +133,8 @@ Result<CalibrationBoard> CalibrationBoard::create(const BoardSpec& spec) {
                              markers, spec.dictionary, board.dictionary_->bytesList.rows)};
   board.charuco_ = cv::aruco::CharucoBoard::create(spec.squares_x, spec.squares_y, float(spec.square_mm),
                                                    float(spec.marker_mm), board.dictionary_);
+  // Only an even number of rows differs (OpenCV's setLegacyPattern).
+  if (spec.legacy && spec.squares_y % 2 == 0) make_legacy(*board.charuco_, spec);
   board.corners_ = board.charuco_->chessboardCorners;
   return board;
 }
@@ -202,10 +251,34 @@ cv::Mat CalibrationBoard::draw(double px_per_mm, double margin_mm) const {
   const cv::Size squares(static_cast<int>(std::lround(board.width * px_per_mm)),
                          static_cast<int>(std::lround(board.height * px_per_mm)));
   cv::Mat image(squares.height + 2 * margin, squares.width + 2 * margin, CV_8U, cv::Scalar(255));
-  if (spec_.kind == BoardKind::Charuco) {
+  if (spec_.kind == BoardKind::Charuco && !(spec_.legacy && spec_.squares_y % 2 == 0)) {
     cv::Mat inner;
     charuco_->draw(squares, inner, 0, 1);
     inner.copyTo(image(cv::Rect(margin, margin, squares.width, squares.height)));
+    return image;
+  }
+  if (spec_.kind == BoardKind::Charuco) {
+    // The legacy layout, drawn here (OpenCV 4.6 draws only its own): black
+    // squares where there is no marker, each marker at its board place.
+    const cv::Matx23d to_image = board_to_image(px_per_mm, margin_mm);
+    auto pixel = [&](const cv::Point3f& p) {
+      return cv::Point(int(std::lround(to_image(0, 0) * p.x + to_image(0, 2) + 0.5)),
+                       int(std::lround(to_image(1, 1) * p.y + to_image(1, 2) + 0.5)));
+    };
+    const float square = float(spec_.square_mm);
+    for (int y = 0; y < spec_.squares_y; ++y)
+      for (int x = 0; x < spec_.squares_x; ++x)
+        if ((x + y) % 2 != 0)
+          cv::rectangle(image, cv::Rect(pixel({float(x) * square, float(y) * square, 0}),
+                                        pixel({float(x + 1) * square, float(y + 1) * square, 0})),
+                        cv::Scalar(0), cv::FILLED);
+    for (std::size_t m = 0; m < charuco_->objPoints.size(); ++m) {
+      const cv::Point top_left = pixel(charuco_->objPoints[m][0]);
+      const int side = pixel(charuco_->objPoints[m][2]).x - top_left.x;
+      cv::Mat marker;
+      cv::aruco::drawMarker(dictionary_, charuco_->ids[m], side, marker, 1);
+      marker.copyTo(image(cv::Rect(top_left.x, top_left.y, side, side)));
+    }
     return image;
   }
   const double s = spec_.square_mm * px_per_mm;
@@ -223,8 +296,8 @@ std::string CalibrationBoard::describe() const {
   if (spec_.kind == BoardKind::Chessboard)
     return fmt::format("chessboard {}x{} squares of {} mm ({}x{} inner corners)", spec_.squares_x, spec_.squares_y,
                        spec_.square_mm, spec_.squares_x - 1, spec_.squares_y - 1);
-  return fmt::format("ChArUco {}x{} squares of {} mm, markers {} mm, {}", spec_.squares_x, spec_.squares_y,
-                     spec_.square_mm, spec_.marker_mm, spec_.dictionary);
+  return fmt::format("ChArUco {}x{} squares of {} mm, markers {} mm, {}{}", spec_.squares_x, spec_.squares_y,
+                     spec_.square_mm, spec_.marker_mm, spec_.dictionary, spec_.legacy ? ", legacy layout" : "");
 }
 
 }  // namespace spinewatch

@@ -166,6 +166,13 @@ std::string misdescribed_board(const CalibrationBoard& board, const std::vector<
       return fmt::format(" — rows and columns are swapped: the board is {}x{} (columns x rows), give --squares {}x{}",
                          swapped.squares_x, swapped.squares_y, swapped.squares_x, swapped.squares_y);
   }
+  if (spec.squares_y % 2 == 0) {
+    BoardSpec other_layout = spec;
+    other_layout.legacy = !spec.legacy;
+    if (fits(other_layout))
+      return spec.legacy ? std::string(" — the board has today's layout: leave out --legacy")
+                         : std::string(" — the board has the legacy layout (OpenCV before 4.6): give --legacy");
+  }
   if (!found) {
     // A census first, on at most 20 frames spread over the views: only a
     // dictionary that finds the board in one of them is fitted (a camera

@@ -28,6 +28,10 @@ struct BoardSpec {
   double square_mm = 150;
   double marker_mm = 115;            // ChArUco only
   std::string dictionary = "DICT_4X4_50";  // ChArUco only: OpenCV's predefined dictionary name
+  // ChArUco only: the layout of OpenCV before 4.6, in which a board with an
+  // even number of rows starts with a white square (a marker) at the top
+  // left; the same as today's with an odd number.
+  bool legacy = false;
 };
 
 // The names of the dictionaries a ChArUco board may use (OpenCV's
