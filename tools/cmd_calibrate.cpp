@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -17,6 +18,7 @@
 #include "calibrate_from.hpp"
 #include "command.hpp"
 #include "spinewatch/calibrate/live_session.hpp"
+#include "spinewatch/calibrate/video_frames.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/capture/v4l2_camera.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
@@ -25,6 +27,8 @@
 
 namespace spinewatch::cli {
 namespace {
+
+constexpr const char* kCameraNames[2] = {"frontal", "lateral"};
 
 struct Frames {
   std::array<std::vector<cv::Mat>, 2> grey;
@@ -80,11 +84,21 @@ Result<std::array<std::unique_ptr<V4l2Camera>, 2>> open_cameras(const std::strin
   return cameras;
 }
 
+// Where a refused calibration puts a camera's intrinsics that held:
+// calibration.yaml → calibration.frontal-intrinsics.yaml beside it.
+std::filesystem::path intrinsics_path(const std::string& out, const char* camera) {
+  std::filesystem::path path(out);
+  return path.parent_path() / fmt::format("{}.{}-intrinsics.yaml", path.stem().string(), camera);
+}
+
 }  // namespace
 
 void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
     std::string views, placement, out = "calibration.yaml";
+    std::string videos[2];
+    std::string aspect = "square";
+    bool legacy = false;
     std::string board = "charuco", squares = "5x7", dictionary = "DICT_4X4_50";
     double square_mm = 150, marker_mm = 115;
     std::string place = "upright";
@@ -103,6 +117,10 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
                   "Recording of the board held at many poses in front of each camera (intrinsics)");
   cmd->add_option("--placement", opts->placement,
                   "Recording of the board placed where the subject will stand (the world frame)");
+  cmd->add_option("--frontal-video", opts->videos[0],
+                  "The views as a video file of the frontal camera (instead of --views; taken together with "
+                  "--lateral-video, frame for frame)");
+  cmd->add_option("--lateral-video", opts->videos[1], "The views as a video file of the lateral camera");
   cmd->add_option("--out", opts->out, "calibration.yaml to write")->capture_default_str();
   cmd->add_option("--board", opts->board, "Board kind")
       ->check(CLI::IsMember({"charuco", "chessboard"}))
@@ -114,7 +132,21 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--marker-mm", opts->marker_mm, "Side of an ArUco marker as printed (mm; ChArUco)")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
-  cmd->add_option("--dictionary", opts->dictionary, "ArUco dictionary of the markers (ChArUco)")->capture_default_str();
+  cmd->add_option("--dictionary", opts->dictionary,
+                  "ArUco dictionary of the markers (ChArUco): DICT_{4,5,6,7}X{4,5,6,7}_{50,100,250,1000}, "
+                  "DICT_ARUCO_ORIGINAL, DICT_APRILTAG_16h5, _25h9, _36h10, _36h11")
+      ->capture_default_str();
+  cmd->add_flag("--legacy", opts->legacy,
+               "ChArUco: the layout of OpenCV before 4.6 (with an even number of rows, a marker in the top left "
+               "square)");
+  cmd->add_option("--aspect", opts->aspect,
+                  "square: refuse fy/fx more than 5 % from 1 (webcams); free: any (anamorphic lenses)")
+      ->check(CLI::IsMember({"square", "free"}))
+      ->capture_default_str();
+  cmd->add_option("--baseline-mm", opts->limits.baseline_mm,
+                  "The distance between the two cameras' lenses measured with a tape (mm): refuse a calibration "
+                  "more than 5 % off it (a wrong --square-mm)")
+      ->check(CLI::Range(1.0, 100000.0));
   cmd->add_option("--place", opts->place, "How the placement board stands: upright (plumb, turned halfway between "
                                           "the cameras) or floor (flat on the floor)")
       ->check(CLI::IsMember({"upright", "floor"}))
@@ -161,9 +193,22 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       fmt::print("{}", format_report(result.report));
       std::fflush(stdout);
       if (!result.accepted()) {
-        return exit_code.fail(Error{fmt::format("calibrate: refused, nothing written ({} problem{}; see above)",
+        // A camera that held is not lost with the other: its intrinsics go
+        // to a file of their own, for the next run.
+        std::string kept;
+        for (int i = 0; i < 2; ++i) {
+          const CameraReport& camera = result.report.cameras[static_cast<std::size_t>(i)];
+          if (camera.intrinsics_given || !camera.intrinsics_accepted || !camera.intrinsics) continue;
+          const auto path = intrinsics_path(opts->out, kCameraNames[i]);
+          if (auto s = save_intrinsics(path, *camera.intrinsics); !s) return exit_code.fail(s.error());
+          kept += fmt::format("; the {} camera's intrinsics held: wrote {}; reuse them with --{}-intrinsics {}",
+                              kCameraNames[i], path.string(), kCameraNames[i],
+                              path.string());
+        }
+        return exit_code.fail(Error{fmt::format("calibrate: refused, {} written ({} problem{}; see above){}",
+                                                kept.empty() ? "nothing" : "no calibration",
                                                 result.report.problems.size(),
-                                                result.report.problems.size() == 1 ? "" : "s")});
+                                                result.report.problems.size() == 1 ? "" : "s", kept)});
       }
       if (auto s = save_calibration(opts->out, result.rig); !s) return exit_code.fail(s.error());
       fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
@@ -179,7 +224,8 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
                    .squares_y = squares->height,
                    .square_mm = opts->square_mm,
                    .marker_mm = opts->marker_mm,
-                   .dictionary = opts->dictionary};
+                   .dictionary = opts->dictionary,
+                   .legacy = opts->legacy};
     auto board = CalibrationBoard::create(spec);
     if (!board) return usage(board.error().message);
 
@@ -205,11 +251,18 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
     if (opts->live && opts->session.views < opts->limits.min_views)
       return usage(fmt::format("--live-views {} is fewer than --min-views {}", opts->session.views,
                                opts->limits.min_views));
-    if (!opts->live && opts->placement.empty())
-      return usage("give --placement DIR (the board where the subject will stand), or --live");
+    opts->limits.rules.free_aspect = opts->aspect == "free";
+    const bool videos = !opts->videos[0].empty() || !opts->videos[1].empty();
+    if (videos && (opts->videos[0].empty() || opts->videos[1].empty()))
+      return usage("give both --frontal-video and --lateral-video (the views of the two cameras, taken together)");
+    if (videos && (!opts->views.empty() || opts->live))
+      return usage("the views come from --views, --frontal-video/--lateral-video or --live: give one of them");
     const bool need_views = opts->intrinsics[0].empty() || opts->intrinsics[1].empty();
-    if (!opts->live && need_views && opts->views.empty())
-      return usage("give --views DIR (the board held at poses), or both --frontal-intrinsics and --lateral-intrinsics");
+    if (!opts->live && !videos && need_views && opts->views.empty())
+      return usage("give --views DIR (the board held at poses) or --frontal-video and --lateral-video, or both "
+                   "--frontal-intrinsics and --lateral-intrinsics");
+    if (!opts->live && !videos && opts->views.empty() && opts->placement.empty())
+      return usage("give --placement DIR (the board where the subject will stand), or the views to find it in");
     const PlacementSpec placement{opts->place == "floor" ? Placement::Floor : Placement::Upright,
                                   opts->centre_height_mm};
     if (placement.kind == Placement::Upright && opts->centre_height_mm <= 0)
@@ -254,18 +307,39 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       }
       return finish(*board, frames, size, placement);
     }
-    auto placed = read_recording(opts->placement);
-    if (!placed) return exit_code.fail(placed.error());
-    size = placed->size;
-    for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].placement = std::move(placed->grey[static_cast<std::size_t>(i)]);
+    if (videos) {
+      for (std::size_t i = 0; i < 2; ++i) {
+        auto video = read_video(opts->videos[i]);
+        if (!video) return exit_code.fail(video.error());
+        if (i == 1 && video->size != size)
+          return exit_code.fail(Error{fmt::format("{}: {}x{} frames, but {} has {}x{}: both cameras' views must be "
+                                                  "at the resolution they will run at",
+                                                  opts->videos[1], video->size.width, video->size.height,
+                                                  opts->videos[0], size.width, size.height)});
+        size = video->size;
+        frames[i].views = std::move(video->grey);
+      }
+    }
+    if (!opts->placement.empty()) {
+      auto placed = read_recording(opts->placement);
+      if (!placed) return exit_code.fail(placed.error());
+      if (videos && placed->size != size)
+        return exit_code.fail(Error{fmt::format("{}: {}x{} frames, but the videos are {}x{}: record both at the "
+                                                "station's resolution",
+                                                opts->placement, placed->size.width, placed->size.height, size.width,
+                                                size.height)});
+      size = placed->size;
+      for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].placement = std::move(placed->grey[static_cast<std::size_t>(i)]);
+    }
     if (!opts->views.empty()) {
       auto views = read_recording(opts->views);
       if (!views) return exit_code.fail(views.error());
-      if (views->size != size)
+      if (!opts->placement.empty() && views->size != size)
         return exit_code.fail(Error{fmt::format("{}: {}x{} frames, but {} has {}x{}: record both at the station's "
                                                 "resolution",
                                                 opts->views, views->size.width, views->size.height, opts->placement,
                                                 size.width, size.height)});
+      size = views->size;
       for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].views = std::move(views->grey[static_cast<std::size_t>(i)]);
     }
 

@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "spinewatch/estimator/calibration/rig_checks.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 
 namespace spinewatch::cli {
@@ -18,11 +19,16 @@ void add_check_command(CLI::App& app, ExitCode& exit_code) {
   struct Options {
     std::string config;
     std::string calibration;
+    std::string aspect = "square";
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("check", "Validate a configuration and/or calibration file");
   cmd->add_option("--config", opts->config, "TOML configuration file");
   cmd->add_option("--calibration", opts->calibration, "calibration.yaml (OpenCV FileStorage)");
+  cmd->add_option("--aspect", opts->aspect,
+                  "square: refuse a camera with fy/fx more than 5 % from 1 (webcams); free: any (anamorphic lenses)")
+      ->check(CLI::IsMember({"square", "free"}))
+      ->capture_default_str();
   cmd->callback([opts, &exit_code] {
     if (opts->config.empty() && opts->calibration.empty()) {
       spdlog::error("check: give --config and/or --calibration");
@@ -46,6 +52,15 @@ void add_check_command(CLI::App& app, ExitCode& exit_code) {
         if (auto s = check_image_size(*rig, config->cameras.width, config->cameras.height); !s)
           return exit_code.fail(Error{fmt::format("{}: {} (cameras.width, cameras.height in {})", opts->calibration,
                                                   s.error().message, opts->config)});
+      // The rules calibrate refuses by (docs/calibration.md): a file that
+      // breaks them is not a station's, however well-formed.
+      RigRules rules;
+      rules.free_aspect = opts->aspect == "free";
+      const auto problems = rig_problems(*rig, rules);
+      for (const auto& p : problems) spdlog::error("{}: {}", opts->calibration, p);
+      if (!problems.empty())
+        return exit_code.fail(Error{fmt::format("{}: not a usable station calibration ({} problem{}; see above)",
+                                                opts->calibration, problems.size(), problems.size() == 1 ? "" : "s")});
       spdlog::info("{}: valid", opts->calibration);
       for (const auto& [name, cam] : {std::pair{"frontal", &rig->frontal}, std::pair{"lateral", &rig->lateral}}) {
         const Eigen::Vector3d c = cam->centre_in_world();

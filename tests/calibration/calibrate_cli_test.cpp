@@ -166,6 +166,92 @@ TEST_F(CalibrateCli, ARefusedCalibrationWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// One camera refused (here: intrinsics given for another resolution) does
+// not lose the other: its intrinsics are written to a file of their own,
+// and the message says how to reuse them.
+TEST_F(CalibrateCli, OneCameraRefusedKeepsTheOthersIntrinsics) {
+  test::TempDir dir;
+  CameraModel vga = truth().lateral;
+  vga.image_width = 640;
+  vga.image_height = 480;
+  ASSERT_TRUE(save_intrinsics(dir / "vga.yaml", vga));
+  const auto out = dir / "cal.yaml", kept = dir / "cal.frontal-intrinsics.yaml";
+  auto r = test::run_cli(args() + " --lateral-intrinsics " + (dir / "vga.yaml").string() + " --out " + out.string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("refused: lateral camera: the intrinsics given were calibrated at 640x480"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("calibrate: refused, no calibration written (1 problem; see above); the frontal camera's "
+                          "intrinsics held: wrote " + kept.string() + "; reuse them with --frontal-intrinsics " +
+                          kept.string()),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(dir / "cal.lateral-intrinsics.yaml"));
+  auto loaded = load_intrinsics(kept);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  EXPECT_EQ(loaded->image_width, 320);
+  EXPECT_NEAR(loaded->camera_matrix(0, 0), 300, 3);
+}
+
+// A tape-measured baseline the calibration disagrees with: a wrong square
+// size, named with the size that would agree.
+TEST_F(CalibrateCli, AWrongSquareSizeIsRefusedAgainstTheMeasuredBaseline) {
+  test::TempDir dir;
+  auto r = test::run_cli(args() + " --baseline-mm 3500 --out " + (dir / "cal.yaml").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("mm apart by the calibration but 3500 mm by --baseline-mm"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not 150 mm as given: measure a square and give --square-mm"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "cal.yaml"));
+}
+
+// Views from video files: both or neither, and a file that is not a video.
+TEST(CalibrateVideo, UsageErrorsAndAnUnreadableVideo) {
+  test::TempDir dir;
+  auto one = test::run_cli("calibrate --frontal-video x.mp4 --board-centre-height 600");
+  EXPECT_EQ(one.exit_code, 2) << one.output;
+  EXPECT_NE(one.output.find("give both --frontal-video and --lateral-video"), std::string::npos) << one.output;
+  test::write_file(dir / "a.mp4", "not a video");
+  auto bad = test::run_cli("calibrate --frontal-video " + (dir / "a.mp4").string() + " --lateral-video " +
+                           (dir / "a.mp4").string() + " --board-centre-height 600");
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find((dir / "a.mp4").string() + ": cannot be read as a video"), std::string::npos) << bad.output;
+  auto missing = test::run_cli("calibrate --frontal-video /nonexistent.mp4 --lateral-video /nonexistent.mp4 "
+                               "--board-centre-height 600");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find("/nonexistent.mp4: no such video file"), std::string::npos) << missing.output;
+}
+
+// calibrate's rules, applied by check to a file from elsewhere.
+TEST(CheckCalibration, AppliesCalibratesRules) {
+  test::TempDir dir;
+  CameraRig stretched = CameraRig::default_rig();
+  stretched.lateral.camera_matrix(1, 1) = 0.86 * stretched.lateral.camera_matrix(0, 0);
+  ASSERT_TRUE(save_calibration(dir / "stretched.yaml", stretched));
+  auto r = test::run_cli("check --calibration " + (dir / "stretched.yaml").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("lateral camera: fy/fx = 0.860"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not a usable station calibration (1 problem; see above)"), std::string::npos) << r.output;
+  auto free = test::run_cli("check --aspect free --calibration " + (dir / "stretched.yaml").string());
+  EXPECT_EQ(free.exit_code, 0) << free.output;
+  CameraRig twice = CameraRig::default_rig();
+  twice.lateral = twice.frontal;
+  ASSERT_TRUE(save_calibration(dir / "twice.yaml", twice));
+  auto same = test::run_cli("check --calibration " + (dir / "twice.yaml").string());
+  EXPECT_EQ(same.exit_code, 1) << same.output;
+  EXPECT_NE(same.output.find("the cameras stand 0 mm apart, closer than 300 mm"), std::string::npos) << same.output;
+  EXPECT_NE(same.output.find("optical axes are 0.0° apart, less than 20°"), std::string::npos) << same.output;
+  CameraRig off_centre = CameraRig::default_rig();
+  off_centre.frontal.image_width = 320;
+  off_centre.frontal.image_height = 240;
+  off_centre.frontal.camera_matrix(1, 2) = 30;
+  ASSERT_TRUE(save_calibration(dir / "off.yaml", off_centre));
+  auto off = test::run_cli("check --calibration " + (dir / "off.yaml").string());
+  EXPECT_EQ(off.exit_code, 1) << off.output;
+  EXPECT_NE(off.output.find("frontal camera: principal point (160.0, 30.0) px lies outside the central third"),
+            std::string::npos)
+      << off.output;
+}
+
 TEST_F(CalibrateCli, UsageErrorsExitTwo) {
   auto no_height = test::run_cli("calibrate --views " + (dir_->path() / "views").string() + " --placement " +
                                  (dir_->path() / "placement").string());

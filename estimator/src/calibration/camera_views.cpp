@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include <fmt/format.h>
 #include <opencv2/calib3d.hpp>
@@ -40,26 +41,49 @@ cv::Mat camera_matrix_cv(const CameraModel& camera) {
 
 cv::Mat dist_coeffs_cv(const CameraModel& camera) { return cv::Mat(camera.distortion(), true).reshape(1, 1); }
 
-std::vector<Observation> collect_views(const CalibrationBoard& board, const std::vector<cv::Mat>& frames,
-                                       const CalibrationLimits& limits, CameraReport& report) {
-  std::vector<Observation> views;
+FrameObservations observe_frames(const CalibrationBoard& board, const std::vector<cv::Mat>& frames,
+                                 const CalibrationLimits& limits, CameraReport& report) {
+  FrameObservations observed(frames.size());
   report.frames = static_cast<int>(frames.size());
+  bool inverted = false;  // the colours of the last board found, tried first
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    BoardDetection found = board.detect(frames[i]);
+    BoardDetection found = board.detect(frames[i], inverted);
     report.max_markers = std::max(report.max_markers, found.markers);
     if (found.empty()) continue;
+    inverted = found.inverted;
     ++report.frames_with_board;
+    ++(found.inverted ? report.frames_white_on_black : report.frames_black_on_white);
     if (!board.usable(found, limits.min_corners)) continue;
     ++report.frames_usable;
-    Observation o{static_cast<int>(i), std::move(found.ids), std::move(found.pixels)};
-    if (!views.empty() && displacement(views.back(), o) < limits.distinct_px) continue;
-    views.push_back(std::move(o));
+    observed[i] = Observation{static_cast<int>(i), std::move(found.ids), std::move(found.pixels)};
+  }
+  return observed;
+}
+
+std::vector<Observation> distinct_views(const FrameObservations& frames, const CalibrationLimits& limits,
+                                        CameraReport& report) {
+  std::vector<Observation> views;
+  for (const auto& o : frames) {
+    if (!o) continue;
+    if (!views.empty() && displacement(views.back(), *o) < limits.distinct_px) continue;
+    views.push_back(*o);
   }
   double corners = 0;
   for (const auto& v : views) corners += double(v.ids.size());
   report.distinct_views = static_cast<int>(views.size());
   report.mean_corners = views.empty() ? 0 : corners / double(views.size());
   return views;
+}
+
+unsigned covered_cells(const std::vector<Observation>& views, cv::Size image_size) {
+  unsigned cells = 0;
+  for (const auto& v : views)
+    for (const auto& p : v.pixels) {
+      const int column = std::clamp(int(3 * p.x / float(image_size.width)), 0, 2);
+      const int row = std::clamp(int(3 * p.y / float(image_size.height)), 0, 2);
+      cells |= 1u << (3 * row + column);
+    }
+  return cells;
 }
 
 double reprojection_rms(const CalibrationBoard& board, const CameraModel& camera, const std::vector<int>& ids,
@@ -96,13 +120,14 @@ Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::v
         object.push_back(board.object_points(views[i].ids));
         image.push_back(views[i].pixels);
       }
-    cv::Mat K, dist;
+    cv::Mat K, dist, deviations, extrinsic_deviations, view_errors;
     std::vector<cv::Mat> rvecs, tvecs;
     try {
       // OpenCV's classic model with k3 held at 0 (k1 k2 p1 p2): what the
       // narrow lenses of these cameras need; k3 and the rational and
       // thin-prism terms would fit the noise of a 320×240 image.
-      fit.rms_px = cv::calibrateCamera(object, image, image_size, K, dist, rvecs, tvecs, cv::CALIB_FIX_K3,
+      fit.rms_px = cv::calibrateCamera(object, image, image_size, K, dist, rvecs, tvecs, deviations,
+                                       extrinsic_deviations, view_errors, cv::CALIB_FIX_K3,
                                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
     } catch (const cv::Exception& e) {
       return Error{fmt::format("cv::calibrateCamera failed ({})", e.err)};
@@ -111,6 +136,17 @@ Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::v
     fit.camera.dist_coeffs = {};
     for (int i = 0; i < std::min<int>(dist.rows * dist.cols, int(kMaxDistortion)); ++i)
       fit.camera.dist_coeffs[static_cast<std::size_t>(i)] = dist.at<double>(i);
+    // stdDeviationsIntrinsics: fx fy cx cy k1 k2 p1 p2 k3 …
+    for (int i = 0; i < 8 && i < deviations.rows * deviations.cols; ++i)
+      fit.sigma[static_cast<std::size_t>(i)] = deviations.at<double>(i);
+    fit.max_tilt_deg = 0;
+    for (const cv::Mat& r : rvecs) {
+      cv::Mat R;
+      cv::Rodrigues(r, R);
+      // The board's normal (its z axis) against the line of sight (the camera's z).
+      const double cosine = std::abs(R.at<double>(2, 2));
+      fit.max_tilt_deg = std::max(fit.max_tilt_deg, std::acos(std::min(cosine, 1.0)) * 180.0 / std::numbers::pi);
+    }
     fit.views.clear();
     std::vector<double> errors;
     for (std::size_t i = 0, k = 0; i < views.size(); ++i) {

@@ -241,6 +241,21 @@ Result<CameraModel> load_intrinsics(const std::filesystem::path& path) {
   });
 }
 
+Status save_intrinsics(const std::filesystem::path& path, const CameraModel& camera) {
+  try {
+    cv::FileStorage fs(path.string(), cv::FileStorage::WRITE);
+    if (!fs.isOpened()) return Error{fmt::format("{}: cannot be written", path.string())};
+    cv::Mat K;
+    cv::eigen2cv(camera.camera_matrix, K);
+    const cv::Mat dist(camera.distortion(), true);
+    fs << "camera_matrix" << K << "distortion_coefficients" << dist.reshape(1, 1);
+    if (camera.image_width > 0) fs << "image_width" << camera.image_width << "image_height" << camera.image_height;
+  } catch (const cv::Exception& e) {
+    return Error{fmt::format("{}: {}", path.string(), e.err)};
+  }
+  return Ok{};
+}
+
 Status check_image_size(const CameraRig& rig, int width, int height) {
   for (const auto& [name, cam] : {std::pair{"frontal", &rig.frontal}, std::pair{"lateral", &rig.lateral}}) {
     if (cam->image_width == 0) continue;

@@ -88,6 +88,9 @@ Result<LiveSession> collect_live(std::array<Camera*, 2> cameras, const Calibrati
   for (int i = 0; i < 2; ++i) {
     out.frames[i].views = views[i].frames();
     out.frames[i].placement = placed[i].frames();
+    // Each camera keeps its own still frames: view i of one is not view i
+    // of the other (the placement board lies still, so its frames pair).
+    out.frames[i].views_taken_together = false;
   }
   return out;
 }

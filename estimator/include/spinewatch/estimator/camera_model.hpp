@@ -81,6 +81,9 @@ Status save_calibration(const std::filesystem::path& path, const CameraRig& rig)
 // keys above at the top level of the file): camera_matrix, the distortion
 // and the image size. R and t stay identity and zero.
 Result<CameraModel> load_intrinsics(const std::filesystem::path& path);
+// Writes one camera's intrinsics so that load_intrinsics reads them back:
+// camera_matrix, distortion_coefficients and the image size.
+Status save_intrinsics(const std::filesystem::path& path, const CameraModel& camera);
 
 // A calibration made at one resolution does not fit a stream of another:
 // an error naming the camera when image_width / image_height are known and

@@ -28,7 +28,16 @@ struct BoardSpec {
   double square_mm = 150;
   double marker_mm = 115;            // ChArUco only
   std::string dictionary = "DICT_4X4_50";  // ChArUco only: OpenCV's predefined dictionary name
+  // ChArUco only: the layout of OpenCV before 4.6, in which a board with an
+  // even number of rows starts with a white square (a marker) at the top
+  // left; the same as today's with an odd number.
+  bool legacy = false;
 };
+
+// The names of the dictionaries a ChArUco board may use (OpenCV's
+// predefined ones: DICT_4X4_50 … DICT_7X7_1000, DICT_ARUCO_ORIGINAL,
+// DICT_APRILTAG_16h5, _25h9, _36h10, _36h11).
+std::vector<std::string> dictionary_names();
 
 // The corners of the board found in one image: corner ids (index into the
 // board's corner list) and their pixel positions, sub-pixel refined.
@@ -36,6 +45,9 @@ struct BoardDetection {
   std::vector<int> ids;
   std::vector<cv::Point2f> pixels;
   int markers = 0;  // ArUco markers of the board found (ChArUco only)
+  // The markers were found white on black (a board printed with inverted
+  // colours, as caliscope prints its boards by default) — ChArUco only.
+  bool inverted = false;
   bool empty() const { return ids.empty(); }
 };
 
@@ -56,7 +68,10 @@ class CalibrationBoard {
   // Width and height of the squares (mm).
   cv::Size2d size_mm() const { return {spec_.squares_x * spec_.square_mm, spec_.squares_y * spec_.square_mm}; }
 
-  BoardDetection detect(const cv::Mat& grey) const;
+  // ChArUco: the markers are looked for black on white and white on black
+  // (`inverted_first` says which first: the colours the previous frame had);
+  // the other colours are tried only when the first find too few corners.
+  BoardDetection detect(const cv::Mat& grey, bool inverted_first = false) const;
   // Corners found that are enough to locate the board: at least
   // `min_corners`, not all on one line.
   bool usable(const BoardDetection& detection, int min_corners) const;
@@ -71,6 +86,7 @@ class CalibrationBoard {
 
  private:
   CalibrationBoard() = default;
+  BoardDetection detect_charuco(const cv::Mat& grey, bool inverted) const;
 
   BoardSpec spec_;
   std::vector<cv::Point3f> corners_;

@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "spinewatch/estimator/calibration/board.hpp"
+#include "spinewatch/estimator/calibration/rig_checks.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 
 namespace spinewatch {
@@ -41,14 +42,33 @@ struct CalibrationLimits {
   double max_error_px = 1.0;         // RMS reprojection error, per camera and of the placement
   double axis_tolerance_deg = 15.0;  // |angle between the optical axes seen from above − 90°|
   double distinct_px = 4.0;          // a view whose corners moved less than this since the last one kept is the same pose
+  int min_shared_views = 5;          // frames both cameras see the board in, for the relative pose from them
+  // No placement: the board moving less than this a frame (px at a
+  // 320-pixel-wide image, scaled with the width) is placed.
+  double still_px = 1.0;
+  // A camera's views pin its intrinsics when the 1-σ of its focal length
+  // is within this fraction of it and that of its centre within this
+  // fraction of the image size; otherwise the report says what to add.
+  double pinned_fraction = 0.01;
+  double baseline_mm = 0;            // the cameras' distance measured with a tape (0: not given)
+  double baseline_tolerance = 0.05;  // the calibrated distance must be within this fraction of it
+  RigRules rules;                    // fy/fx, centre, distance and axes (rig_checks.hpp)
 };
 
 // One camera's input: grey frames of the board held at poses and of the
 // board at its placement; or its intrinsics from elsewhere (load_intrinsics).
+// The views of both cameras are taken together: frame i of one and frame i
+// of the other show the board at the same instant (a recording's pairs, or
+// synchronised videos), which is what the relative pose is fitted from.
+// Without placement frames, a still stretch of the views places the board.
 struct CameraFrames {
   std::vector<cv::Mat> views;
   std::vector<cv::Mat> placement;
   std::optional<CameraModel> intrinsics;
+  // False when view i of this camera was not taken with view i of the
+  // other (calibrate --live keeps each camera's own still frames): then
+  // only the placement's frames are shared views.
+  bool views_taken_together = true;
 };
 
 struct ViewError {
@@ -66,10 +86,18 @@ struct CameraReport {
   int frames_with_board = 0;   // … where any corner of the board was found
   int frames_usable = 0;       // … with enough corners, not on one line
   int max_markers = 0;         // most ArUco markers of the board in one frame (ChArUco)
+  int frames_black_on_white = 0, frames_white_on_black = 0;  // the markers' colours, frames with the board
+  std::string colours() const;  // "black on white", "white on black (inverted)", or both with counts
   int distinct_views = 0;      // usable frames that are distinct poses
   std::vector<ViewError> views;  // the distinct poses used, with their errors
   double mean_corners = 0;
   double rms_px = 0;           // intrinsics: RMS reprojection error over all views
+  std::optional<CameraModel> intrinsics;  // fitted or given; with image_width/height
+  bool intrinsics_accepted = false;       // … and not refused (written on their own when the other camera is)
+  std::array<double, 8> sigma{};          // 1-σ of fx fy cx cy k1 k2 p1 p2 (fitted only)
+  unsigned covered_cells = 0;             // of a 3×3 grid over the image, the cells the views' corners fell in
+  double max_tilt_deg = 0;                // the most tilted view
+  std::string coverage() const;           // "6 of 9 ninths of the image (missing: top left, …)"
   int placement_frames = 0;
   int placement_frames_with_board = 0;
   int placement_corners = 0;   // distinct corners seen in the placement frames
@@ -88,6 +116,17 @@ struct CalibrationReport {
   // down. What the orthogonality limit applies to.
   double horizontal_axis_angle_deg = 0;
   bool placed = false;  // the world frame was found (both cameras placed)
+  // The rig's own accuracy: the lateral camera from the frontal, fitted to
+  // every frame both saw the board in (0 views: from the placement alone).
+  int shared_views = 0;
+  double relative_rms_px = 0;
+  double baseline_mm = 0;  // distance between the camera centres
+  // The world frame: where it came from ("the placement recording",
+  // "views frames 85–88, the board still within 0.6 px"), and — when the
+  // relative pose is from the shared views and both cameras saw the
+  // placement — how far the lateral camera's own placement disagrees.
+  std::string world_from;
+  double placement_disagreement_deg = -1, placement_disagreement_mm = -1;
   std::vector<std::string> problems;  // why it is refused; empty when accepted
   std::vector<std::string> warnings;
 };
