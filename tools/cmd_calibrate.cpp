@@ -6,7 +6,9 @@
 // straight from both cameras instead of recordings.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -17,6 +19,7 @@
 
 #include "calibrate_from.hpp"
 #include "command.hpp"
+#include "spinewatch/calibrate/grey_image.hpp"
 #include "spinewatch/calibrate/live_session.hpp"
 #include "spinewatch/calibrate/video_frames.hpp"
 #include "spinewatch/capture/recording.hpp"
@@ -35,23 +38,42 @@ struct Frames {
   cv::Size size;
 };
 
-// Every frame of both views of a recording, as grey images.
+// The frames of both views of a recording that were taken together, as
+// grey images: frame k of one view and frame k of the other are a pair
+// (the calibration takes the shared views' relative pose from them). A
+// frame is paired with the other view's frame nearest in time, within
+// half a frame period; a camera that dropped a frame leaves its partner
+// unpaired, and it is left out (counted in a warning) rather than paired
+// with the wrong instant.
 Result<Frames> read_recording(const std::string& dir) {
   auto reader = RecordingReader::open(dir);
   if (!reader) return reader.error();
   for (const auto& w : reader->warnings()) spdlog::warn("{}", w);
   Frames out;
   out.size = cv::Size(static_cast<int>(reader->info().format.width), static_cast<int>(reader->info().format.height));
-  for (View view : kViews)
-    for (std::size_t i = 0; i < reader->frame_count(view); ++i) {
-      auto frame = reader->read(view, i);
-      if (!frame) return frame.error();
-      const LumaView luma = frame->luma();
-      cv::Mat grey(luma.height, luma.width, CV_8U);
-      for (int y = 0; y < luma.height; ++y)
-        for (int x = 0; x < luma.width; ++x) grey.at<std::uint8_t>(y, x) = luma.at(x, y);
-      out.grey[static_cast<std::size_t>(view)].push_back(std::move(grey));
+  const auto tolerance_ns = static_cast<std::int64_t>(0.5e9 / std::max(1.0, reader->info().fps));
+  std::size_t next[2] = {0, 0};
+  std::size_t unpaired = 0;
+  const std::size_t count[2] = {reader->frame_count(View::Frontal), reader->frame_count(View::Lateral)};
+  while (next[0] < count[0] && next[1] < count[1]) {
+    auto frontal = reader->read(View::Frontal, next[0]);
+    if (!frontal) return frontal.error();
+    auto lateral = reader->read(View::Lateral, next[1]);
+    if (!lateral) return lateral.error();
+    const std::int64_t dt = frontal->timestamp_ns() - lateral->timestamp_ns();
+    if (std::abs(dt) <= tolerance_ns) {
+      out.grey[0].push_back(grey_image(*frontal));
+      out.grey[1].push_back(grey_image(*lateral));
+      ++next[0];
+      ++next[1];
+    } else {
+      ++next[dt < 0 ? 0 : 1];  // the earlier frame has no partner
+      ++unpaired;
     }
+  }
+  unpaired += (count[0] - next[0]) + (count[1] - next[1]);
+  if (unpaired > 0)
+    spdlog::warn("{}: {} frames have no partner within half a frame period in the other view; left out", dir, unpaired);
   return out;
 }
 

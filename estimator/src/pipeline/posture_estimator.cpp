@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -39,6 +40,23 @@ SilhouetteOptions silhouette_options(const EstimatorOptions& o) {
   // The window spans three seconds of samples at the camera rate.
   s.bootstrapping.sample_every = std::max(1, static_cast<int>(std::lround(fps / 10)));
   return s;
+}
+
+// Why the last bootstrap attempt was refused, in the operator's words.
+std::string bootstrap_stall_reason(const BootstrapAttempt& a, const BootstrapOptions& b, int threshold) {
+  if (a.samples == 0) return "no frame has been sampled yet";
+  if (a.moved_px < b.min_moved_px)
+    return fmt::format("the subject has hardly moved ({} px changed, {} needed to see the scene behind them)", a.moved_px,
+                       b.min_moved_px);
+  const double limit = b.max_holdout_error * threshold;
+  if (a.holdout_p90 > limit)
+    return fmt::format("the scene is too cluttered to predict behind the subject (off by {:.0f} grey levels on scene "
+                       "around them, at most {:.0f} allowed)",
+                       a.holdout_p90, limit);
+  if (a.holdout_outliers > b.max_holdout_outliers)
+    return fmt::format("the subject reaches outside the region they swept ({:.1f} % of the scene around them differs)",
+                       100 * a.holdout_outliers);
+  return fmt::format("the subject has uncovered {:.0f} % of the scene behind them so far", 100 * a.revealed());
 }
 
 CvsmOptions cvsm_options(const EstimatorOptions& o) {
@@ -181,6 +199,23 @@ struct PostureEstimator::Impl {
       reported_source[v] = source;
     }
     reported_no_background = none;
+    no_background_pairs = none ? no_background_pairs + 1 : 0;
+    // Two whole bootstrap windows without a background: it is not coming
+    // by itself (a cluttered room cannot be predicted behind the subject,
+    // or the subject sits still). Said once, with why and what to do, so
+    // a station is never silently `init` for ever.
+    if (no_background_pairs == stalled_after_pairs()) {
+      const int v = frontal == SilhouetteStatus::NoBackground ? 0 : 1;
+      spdlog::warn("estimator: still no {} background after {} pairs: {}. Capture the empty scene with `spinewatch "
+                   "background` and set silhouette.background_frontal/_lateral, or start the station with nobody in view",
+                   v == 0 ? "frontal" : "lateral", no_background_pairs,
+                   bootstrap_stall_reason(silhouettes[v].bootstrap_attempt(), silhouette_options(options).bootstrapping,
+                                          options.threshold));
+    }
+  }
+  int stalled_after_pairs() const {
+    const BootstrapOptions b = silhouette_options(options).bootstrapping;
+    return 2 * b.window_samples * b.sample_every;
   }
 
   // While tracking, the next pair's person is looked for near where the
@@ -210,6 +245,7 @@ struct PostureEstimator::Impl {
   bool priors_set = false;
   EstimatorOptions options;
   bool reported_no_background = false;
+  int no_background_pairs = 0;  // in a row
   BackgroundSource reported_source[2] = {BackgroundSource::None, BackgroundSource::None};
   SilhouetteExtractor silhouettes[2];
   CvsmTracker tracker;

@@ -1,5 +1,7 @@
 #include "spinewatch/calibrate/live_session.hpp"
 
+#include "spinewatch/calibrate/grey_image.hpp"
+
 #include <optional>
 
 #include <fmt/format.h>
@@ -8,14 +10,6 @@ namespace spinewatch {
 namespace {
 
 constexpr const char* kNames[2] = {"frontal", "lateral"};
-
-cv::Mat grey_of(const Frame& frame) {
-  const LumaView luma = frame.luma();
-  cv::Mat grey(luma.height, luma.width, CV_8U);
-  for (int y = 0; y < luma.height; ++y)
-    for (int x = 0; x < luma.width; ++x) grey.at<std::uint8_t>(y, x) = luma.at(x, y);
-  return grey;
-}
 
 // Runs one phase: frames from both cameras into their collectors until each
 // has `target[i]`, printing progress as the counts change.
@@ -52,7 +46,7 @@ Status run_phase(std::array<Camera*, 2> cameras, std::array<ViewCollector, 2>& c
     for (int i = 0; i < 2; ++i) {
       auto frame = cameras[i]->next(std::chrono::milliseconds(100));
       if (!frame) continue;
-      const cv::Mat grey = grey_of(*frame);
+      const cv::Mat grey = grey_image(*frame);
       if (!size) size = grey.size();
       if (grey.size() != *size)
         return Error{fmt::format("calibrate --live: the {} camera's frames are {}x{}, the other's {}x{}", kNames[i],
