@@ -76,7 +76,7 @@ TEST(BaselineFit, ATinyRunPrintsTheRowOfBothModesFromItsPostures) {
   test::TempDir dir;
   const auto table = dir / "table.md";
   auto r = test::run_command(script_command("--work '" + dir.path().string() + "' --subjects " +
-                                            std::to_string(kSubject) + " --rows reach --frames " +
+                                            std::to_string(kSubject) + " --rows carry --frames " +
                                             std::to_string(kFrames) + " > '" + table.string() + "'"));
   ASSERT_EQ(r.exit_code, 0) << r.output << test::read_file(table);
   const std::string text = test::read_file(table);
@@ -96,7 +96,7 @@ TEST(BaselineFit, ATinyRunPrintsTheRowOfBothModesFromItsPostures) {
   }
   const auto& row = rows[1];
   ASSERT_EQ(row.size(), 11u) << text;
-  EXPECT_EQ(row[0], "`reach`");
+  EXPECT_EQ(row[0], "`carry`");
   EXPECT_NE(text.find("28496"), std::string::npos) << "the subject is named:\n" << text;
 
   const std::regex millimetres(R"(\d+\.\d)"), shares(R"((\d+) / (\d+) / (\d+))"), worst(R"((\d+) \((\d+)\))");
@@ -105,8 +105,8 @@ TEST(BaselineFit, ATinyRunPrintsTheRowOfBothModesFromItsPostures) {
     SCOPED_TRACE(modes[m]);
     const std::size_t c = 1 + 5 * std::size_t(m);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_TRUE(std::regex_match(row[c + i], millimetres)) << row[c + i];
-    const Measured truth = measure(dir / "reach" / std::to_string(kSubject) / "recording",
-                                   dir / "reach" / std::to_string(kSubject) / (modes[m] + ".ndjson"));
+    const Measured truth = measure(dir / "carry" / std::to_string(kSubject) / "recording",
+                                   dir / "carry" / std::to_string(kSubject) / (modes[m] + ".ndjson"));
     ASSERT_EQ(truth.person_frames, kFrames);
     ASSERT_GT(truth.states.count("tracking"), 0u) << "no pair tracked: the cells would be empty";
     std::smatch s;
