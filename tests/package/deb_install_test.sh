@@ -45,7 +45,7 @@ skip() {
 }
 now_ms() { date +%s%3N; }
 
-for tool in cpack dpkg dpkg-deb objdump systemd-sysusers; do
+for tool in cpack dpkg dpkg-deb objdump ldd systemd-sysusers; do
   command -v "$tool" >/dev/null || skip "$tool is not installed"
 done
 arch=$(dpkg --print-architecture)
@@ -71,10 +71,22 @@ depends_names=" $(echo "$depends" | sed -E 's/\([^)]*\)//g; s/[,|]/ /g') "
 [[ $depends_names == *" systemd "* ]] || fail "Depends lacks systemd (the maintainer scripts run systemd-sysusers): $depends"
 for binary in "$build/daemon/spinewatchd" "$build/tools/spinewatch"; do
   for soname in $(objdump -p "$binary" | awk '$1 == "NEEDED" { print $2 }'); do
-    owner=$(dpkg -S "*/$soname" 2>/dev/null | awk -F': ' -v so="$soname" '{ n = split($2, p, "/"); if (p[n] == so) print $1 }' | head -n1)
-    [ -n "$owner" ] || fail "$binary needs $soname, which no installed package provides"
-    owner=${owner%%:*}
-    [[ $depends_names == *" $owner "* ]] || fail "$(basename "$binary") needs $soname from $owner, which Depends does not name: $depends"
+    # The file the loader uses (not a cross toolchain's of the same name);
+    # dpkg knows it by its /usr or its merged-/usr alias.
+    path=$(ldd "$binary" | awk -v so="$soname" '$1 == so && $2 == "=>" { print $3 }')
+    [ -n "$path" ] || fail "$binary needs $soname, which the loader does not find"
+    owner=""
+    for alias in "$path" "${path#/usr}" "/usr$path"; do
+      [ -n "$owner" ] || owner=$( (dpkg -S "$alias" 2>/dev/null || true) | head -n1 | cut -d: -f1)
+    done
+    [ -n "$owner" ] || fail "$binary needs $path, which no installed package provides"
+    # The package itself, or a name it provides (shlibs may name one:
+    # libspdlog1.10 provides libspdlog1.10-fmt9).
+    named=""
+    for name in "$owner" $(dpkg-query -W -f='${Provides}' "$owner" | sed -E 's/\([^)]*\)//g; s/,/ /g'); do
+      [[ $depends_names == *" $name "* ]] && named=$name
+    done
+    [ -n "$named" ] || fail "$(basename "$binary") needs $soname from $owner, which Depends does not name: $depends"
   done
 done
 
@@ -87,6 +99,14 @@ for script in postinst prerm postrm; do
   sh -n "$work/control/$script" || fail "$script does not parse"
 done
 grep -q 'systemd-sysusers' "$work/control/postinst" || fail "postinst does not create the accounts"
+# What it holds (listed from the archive: a machine's dpkg path-exclude,
+# e.g. of /usr/share/doc in container images, would hide it after install).
+dpkg-deb -c "$deb" | awk '{ print $6 }' >"$work/contents"
+for file in ./usr/sbin/spinewatchd ./usr/bin/spinewatch ./usr/lib/systemd/system/spinewatch.service \
+  ./usr/lib/sysusers.d/spinewatch.conf ./etc/spinewatch/spinewatch.toml ./usr/share/spinewatch/demo/recording.json \
+  ./usr/share/doc/spinewatch/daemon.md ./usr/share/doc/spinewatch/hardware.md ./usr/share/doc/spinewatch/posture.schema.json; do
+  grep -qx "$file" "$work/contents" || fail "the package lacks ${file#.}"
+done
 
 # 4. Install into a scratch root.
 root=$work/root
@@ -103,9 +123,8 @@ dpkg-query --admindir="$root/var/lib/dpkg" -W -f='${Conffiles}\n' spinewatch | g
   fail "dpkg did not register the conffile"
 
 for file in usr/sbin/spinewatchd usr/bin/spinewatch usr/lib/systemd/system/spinewatch.service \
-  usr/lib/sysusers.d/spinewatch.conf usr/share/spinewatch/demo/recording.json \
-  usr/share/doc/spinewatch/daemon.md usr/share/doc/spinewatch/posture.schema.json; do
-  [ -e "$root/$file" ] || fail "the package lacks /$file"
+  usr/lib/sysusers.d/spinewatch.conf usr/share/spinewatch/demo/recording.json; do
+  [ -e "$root/$file" ] || fail "dpkg did not install /$file"
 done
 cmp -s "$root/etc/spinewatch/spinewatch.toml" "$src/config/spinewatch.toml" ||
   fail "/etc/spinewatch/spinewatch.toml is not config/spinewatch.toml"
