@@ -69,26 +69,35 @@ depends=$(field Depends)
 echo "Depends: $depends"
 depends_names=" $(echo "$depends" | sed -E 's/\([^)]*\)//g; s/[,|]/ /g') "
 [[ $depends_names == *" systemd "* ]] || fail "Depends lacks systemd (the maintainer scripts run systemd-sysusers): $depends"
+# Every library the two programs load, the file the loader uses (not a
+# cross toolchain's of the same name), and the package that owns it; dpkg
+# knows a file by its /usr or its merged-/usr name, so both are asked, in
+# one query (dpkg -S reads its whole database each time).
+declare -A needed_by=()
 for binary in "$build/daemon/spinewatchd" "$build/tools/spinewatch"; do
+  libraries=$(ldd "$binary")
   for soname in $(objdump -p "$binary" | awk '$1 == "NEEDED" { print $2 }'); do
-    # The file the loader uses (not a cross toolchain's of the same name);
-    # dpkg knows it by its /usr or its merged-/usr alias.
-    path=$(ldd "$binary" | awk -v so="$soname" '$1 == so && $2 == "=>" { print $3 }')
-    [ -n "$path" ] || fail "$binary needs $soname, which the loader does not find"
-    owner=""
-    for alias in "$path" "${path#/usr}" "/usr$path"; do
-      [ -n "$owner" ] || owner=$( (dpkg -S "$alias" 2>/dev/null || true) | head -n1 | cut -d: -f1)
-    done
-    [ -n "$owner" ] || fail "$binary needs $path, which no installed package provides"
-    # The package itself, or a name it provides (shlibs may name one:
-    # libspdlog1.10 provides libspdlog1.10-fmt9).
-    named=""
-    for name in "$owner" $(dpkg-query -W -f='${Provides}' "$owner" | sed -E 's/\([^)]*\)//g; s/,/ /g'); do
-      [[ $depends_names == *" $name "* ]] && named=$name
-    done
-    [ -n "$named" ] || fail "$(basename "$binary") needs $soname from $owner, which Depends does not name: $depends"
+    path=$(echo "$libraries" | awk -v so="$soname" '$1 == so && $2 == "=>" { print $3 }')
+    [ -n "$path" ] || fail "$(basename "$binary") needs $soname, which the loader does not find"
+    needed_by[$path]=$(basename "$binary")
   done
 done
+aliases=()
+for path in "${!needed_by[@]}"; do aliases+=("$path" "${path#/usr}" "/usr${path#/usr}"); done
+owners=$( (dpkg -S "${aliases[@]}" 2>/dev/null || true) | sed -E 's/^([^:]+)(:[^:]+)?: /\1 /')
+for path in "${!needed_by[@]}"; do
+  owner=$(echo "$owners" | awk -v a="$path" -v b="${path#/usr}" -v c="/usr${path#/usr}" \
+    '$2 == a || $2 == b || $2 == c { print $1; exit }')
+  [ -n "$owner" ] || fail "${needed_by[$path]} needs $path, which no installed package provides"
+  # The package itself, or a name it provides (shlibs may name one:
+  # libspdlog1.10 provides libspdlog1.10-fmt9).
+  named=""
+  for name in "$owner" $(dpkg-query -W -f='${Provides}' "$owner" | sed -E 's/\([^)]*\)//g; s/,/ /g'); do
+    if [[ $depends_names == *" $name "* ]]; then named=$name; fi
+  done
+  [ -n "$named" ] || fail "${needed_by[$path]} needs $path from $owner, which Depends does not name: $depends"
+done
+echo "Depends names the packages of all ${#needed_by[@]} libraries the programs load"
 
 # 3. Control archive.
 dpkg-deb -e "$deb" "$work/control"
