@@ -17,8 +17,14 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_VENDOR spinewatch)
 set(CPACK_PACKAGE_CONTACT ${SPINEWATCH_DEB_MAINTAINER})
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "spine posture from two calibrated cameras (daemon and CLI)")
-set(CPACK_PACKAGE_DESCRIPTION
-  "spinewatchd estimates the 3D pose of the vertebrae T1 to L5 from two calibrated cameras' silhouettes and publishes the posture stream on a TCP port and a Unix socket; spinewatch is its command line (calibration, recording, replay, reports). Ships the systemd unit, the annotated configuration in /etc/spinewatch and a demo recording the daemon replays when no cameras are present.")
+# One paragraph, lines under 80 columns (CPack indents them for control).
+set(CPACK_PACKAGE_DESCRIPTION "\
+spinewatchd estimates the 3D pose of the vertebrae T1 to L5 from two
+calibrated cameras' silhouettes and publishes the posture stream on a TCP
+port and a Unix socket; spinewatch is its command line (calibration,
+recording, replay, reports). Ships the systemd unit, the annotated
+configuration in /etc/spinewatch and a demo recording the daemon replays
+when no cameras are present.")
 # Installed where the configured paths say (the unit's ExecStart=, the
 # daemon's compiled-in demo directory): the release preset uses /usr.
 set(CPACK_PACKAGING_INSTALL_PREFIX ${CMAKE_INSTALL_PREFIX})
