@@ -40,8 +40,9 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd")
 
-set(SPINEWATCH_CONFIG_FILE ${CMAKE_INSTALL_FULL_SYSCONFDIR}/spinewatch/spinewatch.toml)
+# The maintainer scripts and the conffile list name the installed paths.
 set(SPINEWATCH_CONFIG_DIR ${CMAKE_INSTALL_FULL_SYSCONFDIR}/spinewatch)
+set(SPINEWATCH_CONFIG_FILE ${SPINEWATCH_CONFIG_DIR}/spinewatch.toml)
 set(SPINEWATCH_DEB_CONTROL_DIR ${CMAKE_BINARY_DIR}/packaging/deb)
 foreach(script conffiles postinst prerm postrm)
   configure_file(${CMAKE_CURRENT_LIST_DIR}/../packaging/deb/${script}.in ${SPINEWATCH_DEB_CONTROL_DIR}/${script} @ONLY)
