@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
 export CTEST_PARALLEL_LEVEL ?= $(JOBS)
 
-.PHONY: all deps build demo test test-release test-asan test-fuzz fuzz bench clean
+.PHONY: all deps build deb demo test test-release test-asan test-fuzz fuzz bench clean
 
 all: build
 
@@ -14,6 +14,14 @@ deps:
 build: deps
 	cmake --preset release
 	cmake --build --preset release
+
+# The Debian package of this machine's architecture (amd64 here, arm64 on a
+# Pi): build/release/spinewatch_<version>-1_<arch>.deb. Builds only what it
+# packages (docs/hardware.md, "Installing from the package").
+deb: deps
+	cmake --preset release
+	cmake --build --preset release --target spinewatchd spinewatch
+	cpack --config build/release/CPackConfig.cmake -B build/release
 
 # The main job on the embedded default: see README.md, "What the demo shows".
 demo: build
