@@ -248,43 +248,12 @@ TEST(CvsmModel, ThinTrunkKeepsEveryFourthVertebraAndTheEnds) {
   EXPECT_EQ(untouched, 12 * kControlPoints);  // 17 vertebra rings, 5 kept
 }
 
-struct Errors {
-  double neck_mean = 0, waist_mean = 0, neck_max = 0, waist_max = 0;
-  int lost = 0, frames = 0;
-};
-
 // These subjects are CVSM body models on the generic spine: tracked with
 // the same placement (the measured one is tests/population's).
 CvsmOptions generic_spine_options() {
   CvsmOptions o;
   o.spine_placement = SpinePlacementMode::Generic;
   return o;
-}
-
-Errors track_sequence(CvsmTracker& tracker, const CameraRig& rig, const BodyModel& subject,
-                      const std::vector<CvsmPose>& poses) {
-  Errors e;
-  for (const CvsmPose& p : poses) {
-    const Views v = render(rig, subject, p);
-    const CvsmResult r = tracker.track(v.frontal, v.lateral);
-    if (r.state == TrackingState::Init) continue;
-    ++e.frames;
-    if (r.state == TrackingState::Lost) {
-      ++e.lost;
-      continue;
-    }
-    const SpinePose truth = pose_vertebrae(subject, generic_spine_spec(), p);
-    const double dn = (r.neck - truth[kNeckIndex].body_center).norm();
-    const double dw = (r.waist - truth[kWaistIndex].body_center).norm();
-    e.neck_mean += dn;
-    e.waist_mean += dw;
-    e.neck_max = std::max(e.neck_max, dn);
-    e.waist_max = std::max(e.waist_max, dw);
-  }
-  const int ok = std::max(1, e.frames - e.lost);
-  e.neck_mean /= ok;
-  e.waist_mean /= ok;
-  return e;
 }
 
 TEST(CvsmTracker, TracksAnotherSubjectsModelThroughABend) {
@@ -296,7 +265,7 @@ TEST(CvsmTracker, TracksAnotherSubjectsModelThroughABend) {
     poses.push_back(bend(50 * s, 12 * s, 6 * s));
   }
   CvsmTracker tracker(rig, generic_spine_options());
-  const Errors e = track_sequence(tracker, rig, subject, poses);
+  const SequenceErrors e = track_sequence(tracker, rig, subject, poses);
   ASSERT_NE(tracker.subject_model(), nullptr);
   EXPECT_NEAR(tracker.subject_model()->shape.height_mm, 1620, 30);
   EXPECT_EQ(e.lost, 0);

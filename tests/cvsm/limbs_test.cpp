@@ -121,9 +121,7 @@ TEST(CvsmLimbs, OnlyTheTurnedLimbMoves) {
   EXPECT_GT(after.y() - before.y(), 400);  // raised by most of the arm's length
 }
 
-struct RunErrors {
-  double neck_mean = 0, waist_mean = 0, neck_max = 0, waist_max = 0;
-  int lost = 0, frames = 0;
+struct RunErrors : SequenceErrors {
   LimbPose last_limbs;
 };
 
@@ -138,35 +136,20 @@ RunErrors run(LimbMode limbs, const BodyModel& subject, const std::vector<CvsmPo
   const CameraRig rig = CameraRig::default_rig();
   CvsmTracker tracker(rig, options_for(limbs));
   RunErrors e;
-  for (const CvsmPose& p : poses) {
-    const Views v = render(rig, subject, p);
-    const CvsmResult r = tracker.track(v.frontal, v.lateral);
-    if (r.state == TrackingState::Init) continue;
-    ++e.frames;
-    if (r.state == TrackingState::Lost) {
-      ++e.lost;
-      continue;
-    }
-    const SpinePose truth = pose_vertebrae(subject, generic_spine_spec(), p);
-    const double dn = (r.neck - truth[kNeckIndex].body_center).norm();
-    const double dw = (r.waist - truth[kWaistIndex].body_center).norm();
-    e.neck_mean += dn;
-    e.waist_mean += dw;
-    e.neck_max = std::max(e.neck_max, dn);
-    e.waist_max = std::max(e.waist_max, dw);
-    e.last_limbs = r.pose.limbs;
-    if (std::getenv("SPINEWATCH_LIMBS_TRACE"))
-      std::printf("%d neck %.1f waist %.1f cost %.3f cand %d | T %.1f/%.1f lat %.1f/%.1f tw %.1f | rsf %.0f/%.0f lab %.0f/%.0f lel %.0f/%.0f rhf %.0f/%.0f rk %.0f/%.0f hf %.0f/%.0f ht %.0f/%.0f lhf %.0f\n",
-                  e.frames, dn, dw, r.fit.cost, r.fit.candidates.value_or(0), r.pose.flexion + r.pose.pelvis_flexion,
-                  p.flexion + p.pelvis_flexion, r.pose.lateral, p.lateral, r.pose.twist, r.pose.limbs.side[1].shoulder_flexion,
-                  p.limbs.side[1].shoulder_flexion, r.pose.limbs.side[0].shoulder_abduction, p.limbs.side[0].shoulder_abduction,
-                  r.pose.limbs.side[0].elbow, p.limbs.side[0].elbow, r.pose.limbs.side[1].hip_flexion, p.limbs.side[1].hip_flexion,
-                  r.pose.limbs.side[1].knee, p.limbs.side[1].knee, r.pose.limbs.head_flexion, p.limbs.head_flexion,
-                  r.pose.limbs.head_turn, p.limbs.head_turn, r.pose.limbs.side[0].hip_flexion);
-  }
-  const int ok = std::max(1, e.frames - e.lost);
-  e.neck_mean /= ok;
-  e.waist_mean /= ok;
+  int frame = 0;
+  static_cast<SequenceErrors&>(e) =
+      track_sequence(tracker, rig, subject, poses, [&](const CvsmPose& truth, const CvsmResult& result, double neck_mm, double waist_mm) {
+        ++frame;
+        e.last_limbs = result.pose.limbs;
+        if (std::getenv("SPINEWATCH_LIMBS_TRACE"))
+          std::printf("%d neck %.1f waist %.1f cost %.3f cand %d | T %.1f/%.1f lat %.1f/%.1f tw %.1f | rsf %.0f/%.0f lab %.0f/%.0f lel %.0f/%.0f rhf %.0f/%.0f rk %.0f/%.0f hf %.0f/%.0f ht %.0f/%.0f lhf %.0f\n",
+                      frame, neck_mm, waist_mm, result.fit.cost, result.fit.candidates.value_or(0), result.pose.flexion + result.pose.pelvis_flexion,
+                      truth.flexion + truth.pelvis_flexion, result.pose.lateral, truth.lateral, result.pose.twist, result.pose.limbs.side[1].shoulder_flexion,
+                      truth.limbs.side[1].shoulder_flexion, result.pose.limbs.side[0].shoulder_abduction, truth.limbs.side[0].shoulder_abduction,
+                      result.pose.limbs.side[0].elbow, truth.limbs.side[0].elbow, result.pose.limbs.side[1].hip_flexion, truth.limbs.side[1].hip_flexion,
+                      result.pose.limbs.side[1].knee, truth.limbs.side[1].knee, result.pose.limbs.head_flexion, truth.limbs.head_flexion,
+                      result.pose.limbs.head_turn, truth.limbs.head_turn, result.pose.limbs.side[0].hip_flexion);
+      });
   return e;
 }
 
