@@ -2,17 +2,70 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <vector>
 
 #include "coordinate_search.hpp"
-#include "upright_outline.hpp"
+#include "upright_view.hpp"
 #include "spinewatch/estimator/anatomy/spine_depth.hpp"
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 
 namespace spinewatch::cvsm_detail {
 namespace {
+
+struct RowExtent {
+  int first = -1, last = -1;
+};
+
+RowExtent extent(const BitMask& m, int y) {
+  RowExtent e;
+  const std::uint64_t* row = m.row(y);
+  for (int w = 0; w < m.words_per_row(); ++w)
+    if (row[w]) {
+      if (e.first < 0) e.first = w * 64 + std::countr_zero(row[w]);
+      e.last = w * 64 + 63 - std::countl_zero(row[w]);
+    }
+  return e;
+}
+
+int top_row(const BitMask& m) {
+  for (int y = 0; y < m.height(); ++y)
+    if (extent(m, y).first >= 0) return y;
+  return -1;
+}
+
+// Median centre column of the rows between fractions a and b of the blob's height.
+double centre_column(const BitMask& m, int top, double a, double b) {
+  int bottom = top;
+  for (int y = top; y < m.height(); ++y)
+    if (extent(m, y).first >= 0) bottom = y;
+  std::vector<double> centres;
+  for (int y = top + static_cast<int>(a * (bottom - top)); y <= top + static_cast<int>(b * (bottom - top)); ++y) {
+    const RowExtent e = extent(m, y);
+    if (e.first >= 0) centres.push_back(0.5 * (e.first + e.last));
+  }
+  if (centres.empty()) return m.width() / 2.0;
+  std::nth_element(centres.begin(), centres.begin() + static_cast<std::ptrdiff_t>(centres.size() / 2), centres.end());
+  return centres[centres.size() / 2];
+}
+
+// Where the ray through `pixel` meets the plane n·X = d.
+Eigen::Vector3d on_plane(const CameraModel& cam, const Eigen::Vector2d& pixel, const Eigen::Vector3d& n, double d) {
+  const Eigen::Vector3d o = cam.centre_in_world();
+  const Eigen::Vector3d r = cam.ray_through(pixel);
+  const double t = (d - n.dot(o)) / n.dot(r);
+  return o + t * r;
+}
+
+// Whether the top of the head is in view: its row (of an upright view) is
+// not the image's border. A level view's top row is the image's first row;
+// a turned one's is wherever its border crosses the head.
+bool crown_in_view(const UprightView& view, int top) {
+  if (view.level() || top < 0) return top > 0;
+  for (int x = 0; x < view.mask().width(); ++x)
+    if (view.mask().get(x, top) && view.on_image_border(x, top)) return false;
+  return true;
+}
 
 constexpr double kCrown = 0.995;  // top of the model's head as a fraction of height (cvsm-generic.toml)
 
@@ -148,20 +201,28 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   SubjectEstimate s;
   s.shape.height_mm = options.height_mm;
   s.shape.posture = options.posture.value_or(SubjectPosture::Standing);
-  // The subject's vertical axis, and the top of the head, measured in the
-  // world (upright_outline.hpp): along image rows and columns they were
-  // wrong by up to 90 mm in views rolled 25°.
-  const Eigen::Vector2d axis = subject_axis(rig, frontal, lateral);
+  // Rows and columns are read with the world's vertical down the columns
+  // (upright_view.hpp): in views rolled 25° the image's own rows put the
+  // crown 90–120 mm low and the axis up to 60 mm off.
+  const UprightView view_f(rig.frontal, frontal), view_l(rig.lateral, lateral);
+  const BitMask &upright_f = view_f.mask(), &upright_l = view_l.mask();
+  const int top_f = top_row(upright_f), top_l = top_row(upright_l);
+  // Subject's vertical axis: frontal columns give z, lateral columns x.
+  const double uf = centre_column(upright_f, top_f, 0.25, 0.5);
+  const double ul = centre_column(upright_l, top_l, 0.25, 0.5);
+  const Eigen::Vector3d pf =
+      on_plane(rig.frontal, view_f.to_image({uf, upright_f.height() / 2.0}), Eigen::Vector3d::UnitX(), 0.0);
+  const Eigen::Vector3d pl =
+      on_plane(rig.lateral, view_l.to_image({ul, upright_l.height() / 2.0}), Eigen::Vector3d::UnitZ(), pf.z());
   // The trunk's centre line is ahead of the spine by (½ − spine fraction) of the depth.
   const auto& l5 = spec.trunk[kWaistIndex];
-  const double spine_x = axis.x() - (0.5 - l5.spine_fraction) * l5.depth * s.shape.height_mm;
+  const double spine_x = pl.x() - (0.5 - l5.spine_fraction) * l5.depth * s.shape.height_mm;
   // Height from the head's top in each view where it is not cut off.
-  const Eigen::Vector2d spine_axis(spine_x, axis.y());
-  const PlaneOutline outline_f = plane_outline(rig.frontal, frontal, spine_axis);
-  const PlaneOutline outline_l = plane_outline(rig.lateral, lateral, spine_axis);
   std::vector<double> tops;
-  for (const PlaneOutline* o : {&outline_f, &outline_l})
-    if (!o->points.empty() && !o->top_cut) tops.push_back(o->top_y);
+  if (crown_in_view(view_f, top_f))
+    tops.push_back(on_plane(rig.frontal, view_f.to_image({uf, top_f - 0.5}), Eigen::Vector3d::UnitX(), spine_x).y());
+  if (crown_in_view(view_l, top_l))
+    tops.push_back(on_plane(rig.lateral, view_l.to_image({ul, top_l - 0.5}), Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
   s.given_stature_mm = options.stature_mm;
   s.given_c7_mm = options.c7_height_mm;
@@ -171,19 +232,17 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
     s.shape.height_mm = *s.given_stature_mm;
   else if (s.shape.posture == SubjectPosture::Standing && !tops.empty())
     s.shape.height_mm = std::clamp(top_y / kCrown, 1300.0, 2200.0);
-  s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, axis.y()};
+  s.base_l5 = {spine_x, spine.l5_height_fraction * s.shape.height_mm, pf.z()};
   if (s.shape.posture == SubjectPosture::Seated && !tops.empty())
     s.base_l5.y() = top_y - (kCrown - spine.l5_height_fraction) * s.shape.height_mm;
   s.crown_y = tops.empty() ? kCrown * s.shape.height_mm : top_y;
   if (!tops.empty()) s.measured_crown_mm = top_y;
   if (tops.empty()) {
-    // The head is cut off by the image's border: the crown is above the
-    // highest point in view (by about a third of a head, a guess the fit
-    // refines).
-    double edge = -std::numeric_limits<double>::infinity();
-    for (const PlaneOutline* o : {&outline_f, &outline_l})
-      if (!o->points.empty()) edge = std::max(edge, o->top_y);
-    if (std::isfinite(edge)) s.crown_y = std::max(s.crown_y, edge + 0.04 * s.shape.height_mm);
+    // The head is cut off by the image's border: the crown is above its
+    // edge (by about a third of a head, a guess the fit refines).
+    const Eigen::Vector2d top_edge = view_f.to_image({uf, std::max(top_f, 0) - 0.5});
+    const double edge = on_plane(rig.frontal, top_edge, Eigen::Vector3d::UnitX(), spine_x).y();
+    s.crown_y = std::max(s.crown_y, edge + 0.04 * s.shape.height_mm);
   }
   return s;
 }
