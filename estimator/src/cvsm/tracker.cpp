@@ -176,17 +176,12 @@ struct CvsmTracker::Impl {
   // step away (kNewHomeMm), that is where the subject now stands.
   static constexpr double kTranslationPxPerMm2 = 0.5;
   static constexpr double kNewHomeMm = 50;
-  // Unanchored, only the height stays held: a step moves the subject
-  // across the floor, not up or down, and seen from cameras tilted far
-  // down a body sunk into the floor and slid towards them draws nearly the
-  // same outlines (tilt 45°: the global search settled 75 mm low and
-  // tracked there; docs/cvsm.md, "Measuring along the world's vertical").
   bool anchored = true;
   // In the cost's sampled pixels.
   double translation_penalty(const PoseParams& a) const {
-    Eigen::Vector3d d = Eigen::Vector3d(a[5], a[6], a[7]) - home;
-    if (!anchored) d.x() = d.z() = 0;
-    return kTranslationPxPerMm2 * d.squaredNorm() / cost->row_step();
+    if (!anchored) return 0;
+    const double d2 = (Eigen::Vector3d(a[5], a[6], a[7]) - home).squaredNorm();
+    return kTranslationPxPerMm2 * d2 / cost->row_step();
   }
 
   // A limb the views cannot see (hidden behind the trunk, beyond the
@@ -314,9 +309,9 @@ struct CvsmTracker::Impl {
     settings.shifts_along = {-1, -1, -1, -1, -1, 0, 1, 2};  // the translation (pose_vertebrae)
     cvsm_detail::OutlineFit fit(*cost, model, {&edges[0], &edges[1]}, cost_width, settings);
     cvsm_detail::ParamPrior prior;
-    for (std::size_t k = 5; k < 8; ++k)
-      if (anchored || k == 6) {  // translation_penalty's
-        prior.weight[k] = kTranslationPxPerMm2 / cost->row_step();
+    if (anchored)
+      for (std::size_t k = 5; k < 8; ++k) {
+        prior.weight[k] = kTranslationPxPerMm2 / cost->row_step();  // translation_penalty's
         prior.centre[k] = home[static_cast<Eigen::Index>(k - 5)];
       }
     PoseParams a = to_params(pose);
