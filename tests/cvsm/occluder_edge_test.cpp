@@ -58,14 +58,29 @@ TEST(OccluderEdge, NotABodysOwnStraightOutline) {
   BitMask m = cut_trunk(150);
   for (int y = 151; y < 230; ++y) m.set_span(y, 190, 200);
   EXPECT_FALSE(find_occluder_edge(m, 230));
-  // A rounded lower outline is not an edge either.
+  EXPECT_FALSE(find_occluder_edge(BitMask(kW, kH), 230));
+}
+
+TEST(OccluderEdge, APersonEndingInMidAirIsHeldByWhatTheBackgroundHides) {
+  // A rounded lower outline ending high above the floor: its flat bottom
+  // is taken for an edge (a seat or a stool the background holds is under
+  // it), but only as wide as that flat bottom ...
   BitMask round(kW, kH);
   for (int x = 120; x <= 200; ++x) {
     const double u = (x - 160) / 40.0;
     for (int y = 80; y <= 150 - static_cast<int>(30 * u * u); ++y) round.set(x, y);
   }
-  EXPECT_FALSE(find_occluder_edge(round, 230));
-  EXPECT_FALSE(find_occluder_edge(BitMask(kW, kH), 230));
+  const auto e = find_occluder_edge(round, 230);
+  ASSERT_TRUE(e);
+  EXPECT_LT(e->x1 - e->x0, 40);
+  // ... and not on the floor.
+  EXPECT_FALSE(find_occluder_edge(round, 160));
+}
+
+TEST(OccluderEdge, NotTheImagesLowerBorder) {
+  // Cut by the image's border, not by a desk.
+  EXPECT_FALSE(find_occluder_edge(cut_trunk(kH - 1), kH + 100));
+  EXPECT_TRUE(find_occluder_edge(cut_trunk(kH - 10), kH + 100));
 }
 
 TEST(OccluderEdge, HidesBelowTheEdgeAndBesideItButNotTheSilhouette) {

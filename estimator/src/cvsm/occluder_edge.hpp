@@ -20,9 +20,11 @@ struct OccluderEdge {
 };
 
 // The widest straight stretch of the silhouette's lower outline (a run of
-// columns whose lowest pixel lies on one line, within kEdgeResidualPx,
-// at most kEdgeSlope steep) when it spans at least kEdgeWidthShare of the
-// silhouette's columns and lies above `floor_row` (the row where the floor
+// columns whose lowest pixel lies on one line, within kEdgeResidualPx but
+// for kEdgeOutlierShare of them, at most kEdgeSlope steep) with no silhouette below it, when it spans at
+// least kEdgeWidthShare of the silhouette's pixels on the row kEdgeAbovePx
+// above it (the trunk it cuts, not a hand or a shoe beside the trunk)
+// and lies above `floor_row` (the row where the floor
 // under the person projects) by more than kEdgeAboveFloorShare of the
 // person's height in the image. Nothing otherwise: feet on the floor, a
 // body ending on its own rounded outline.
@@ -34,9 +36,12 @@ std::optional<OccluderEdge> find_occluder_edge(const BitMask& silhouette, double
 void hidden_below(const OccluderEdge& edge, const BitMask& silhouette, BitMask& out);
 
 inline constexpr double kEdgeResidualPx = 1.5;
+inline constexpr double kEdgeOutlierShare = 0.1;
 inline constexpr double kEdgeSlope = 0.5;
 inline constexpr double kEdgeWidthShare = 0.4;
 inline constexpr double kEdgeAboveFloorShare = 0.15;
 inline constexpr int kEdgeMinColumns = 12;
+inline constexpr int kEdgeAbovePx = 3;
+inline constexpr double kEdgeBelowPx = 4;
 
 }  // namespace spinewatch::cvsm_detail

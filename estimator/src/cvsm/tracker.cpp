@@ -509,6 +509,14 @@ struct CvsmTracker::Impl {
       previous = before;
       phase = flag.empty() ? Phase::Predicting : Phase::Tracking;
     }
+    // An occluder hides the lower body in both views: no view sees the
+    // legs or the pelvis's lower outline, so the waist rests on the model's
+    // guess of them (docs/cvsm.md, "Occluded lower body"). Not published
+    // as tracking; the fit goes on from this pose.
+    if (r.state == TrackingState::Tracking && hiding[0] && hiding[1]) {
+      r.state = TrackingState::Lost;
+      if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+    }
     return r;
   }
 
