@@ -58,6 +58,12 @@ TEST(OccluderEdge, NotABodysOwnStraightOutline) {
   BitMask m = cut_trunk(150);
   for (int y = 151; y < 230; ++y) m.set_span(y, 190, 200);
   EXPECT_FALSE(find_occluder_edge(m, 230));
+  // An arm held out sideways, straight underneath, nothing under it, the
+  // legs far below beside it.
+  BitMask arm(kW, kH);
+  for (int y = 60; y < 229; ++y) arm.set_span(y, 150, 190);  // trunk and legs to the floor
+  for (int y = 90; y < 100; ++y) arm.set_span(y, 60, 150);   // the arm
+  EXPECT_FALSE(find_occluder_edge(arm, 230));
   EXPECT_FALSE(find_occluder_edge(BitMask(kW, kH), 230));
 }
 

@@ -121,6 +121,11 @@ std::optional<OccluderEdge> find_occluder_edge(const BitMask& silhouette, double
   auto above_border = [&](const OccluderEdge& e) {
     return std::max(e.row(e.x0), e.row(e.x1)) < silhouette.height() - 1 - kEdgeResidualPx;
   };
+  // Where the person ends: an edge higher up is a body part's own outline
+  // (an arm held out sideways is straight underneath, with the legs far
+  // below it).
+  const int lowest = *std::max_element(o.bottom.begin(), o.bottom.end());
+  auto at_the_end = [&](const OccluderEdge& e) { return std::max(e.row(e.x0), e.row(e.x1)) >= lowest - kEdgeBelowPx; };
   // Runs of columns along which the lower outline moves at most a pixel a
   // column: a candidate straight edge each.
   std::optional<OccluderEdge> best;
@@ -132,7 +137,7 @@ std::optional<OccluderEdge> find_occluder_edge(const BitMask& silhouette, double
            std::abs(o.bottom[static_cast<std::size_t>(end + 1)] - o.bottom[static_cast<std::size_t>(end)]) <= 1)
       ++end;
     if (o.bottom[static_cast<std::size_t>(x)] >= 0 && end - x + 1 >= kEdgeMinColumns && (!best || end - x > best->x1 - best->x0)) {
-      if (auto e = straightest(o.bottom, x, end); e && above_border(*e) && nothing_below(o.bottom, *e) && wide_enough(*e) &&
+      if (auto e = straightest(o.bottom, x, end); e && above_border(*e) && at_the_end(*e) && nothing_below(o.bottom, *e) && wide_enough(*e) &&
                                                    (!best || e->x1 - e->x0 > best->x1 - best->x0))
         best = e;
     }

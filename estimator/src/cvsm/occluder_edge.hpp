@@ -23,7 +23,9 @@ struct OccluderEdge {
 // columns whose lowest pixel lies on one line, within kEdgeResidualPx but
 // for kEdgeOutlierShare of them, at most kEdgeSlope steep) with no silhouette below it, when it spans at
 // least kEdgeWidthShare of the silhouette's pixels on the row kEdgeAbovePx
-// above it (the trunk it cuts, not a hand or a shoe beside the trunk)
+// above it (the trunk it cuts, not a hand or a shoe beside the trunk),
+// reaches down to within kEdgeBelowPx of the silhouette's lowest row
+// (where the person ends, not an arm held out above the legs)
 // and lies above `floor_row` (the row where the floor
 // under the person projects) by more than kEdgeAboveFloorShare of the
 // person's height in the image. Nothing otherwise: feet on the floor, a
