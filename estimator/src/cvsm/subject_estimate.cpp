@@ -274,14 +274,16 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   }
   // Seated, the crown no longer tells the height: the trunk's length
   // (crown to seat) does, so heights are tried, each hanging from the
-  // measured crown, and the best refined (≈ 800 cost evaluations, once).
-  if (!s.lower_body_hidden)
-  for (const double height : seated_heights()) {
-    SubjectEstimate seated = seated_at(height);
-    const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
-    if (c < best_seated_cost) {
-      best_seated_cost = c;
-      best_seated = seated;
+  // measured crown, and the best refined (≈ 800 cost evaluations, once;
+  // with the lower body hidden, already done above).
+  if (!s.lower_body_hidden) {
+    for (const double height : seated_heights()) {
+      SubjectEstimate seated = seated_at(height);
+      const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
+      if (c < best_seated_cost) {
+        best_seated_cost = c;
+        best_seated = seated;
+      }
     }
   }
   n += refine_subject(*best_seated, cost, spec, spine, 60);
