@@ -247,6 +247,15 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   return s;
 }
 
+namespace {
+// The statures a seated subject's model is tried at.
+std::vector<double> seated_heights() {
+  std::vector<double> h;
+  for (double height = 1450; height <= 1950; height += 50) h.push_back(height);
+  return h;
+}
+}  // namespace
+
 int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    const CvsmOptions& options) {
   if (options.posture) return 0;
@@ -267,10 +276,12 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // A given stature is the height: tried alone, and not searched.
   std::optional<SubjectEstimate> best_seated;
   std::int64_t best_seated_cost = INT64_MAX;
-  const std::vector<double> scales = s.given_stature_mm ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.88, 1.12};
   const double guess = s.given_stature_mm.value_or(options.height_mm);
-  for (const double scale : scales) {
-    SubjectEstimate seated = seated_at(scale * guess);
+  std::vector<double> heights{guess};
+  if (!s.given_stature_mm) heights = {guess, 0.88 * guess, 1.12 * guess};
+  if (!s.given_stature_mm && s.lower_body_hidden) heights = seated_heights();
+  for (const double height : heights) {
+    SubjectEstimate seated = seated_at(height);
     const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
     if (c < best_seated_cost) {
       best_seated_cost = c;
@@ -284,13 +295,16 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   }
   // Seated, the crown no longer tells the height: the trunk's length
   // (crown to seat) does, so heights are tried, each hanging from the
-  // measured crown, and the best refined (≈ 800 cost evaluations, once).
-  for (double height = 1450; height <= 1950; height += 50) {
-    SubjectEstimate seated = seated_at(height);
-    const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
-    if (c < best_seated_cost) {
-      best_seated_cost = c;
-      best_seated = seated;
+  // measured crown, and the best refined (≈ 800 cost evaluations, once;
+  // with the lower body hidden, already done above).
+  if (!s.lower_body_hidden) {
+    for (const double height : seated_heights()) {
+      SubjectEstimate seated = seated_at(height);
+      const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
+      if (c < best_seated_cost) {
+        best_seated_cost = c;
+        best_seated = seated;
+      }
     }
   }
   n += refine_subject(*best_seated, cost, spec, spine, 60);

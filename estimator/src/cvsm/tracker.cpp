@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coordinate_search.hpp"
+#include "occluder_edge.hpp"
 #include "outline_fit.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
@@ -412,6 +413,7 @@ struct CvsmTracker::Impl {
   int start_subject(const BitMask& frontal, const BitMask& lateral, const CvsmOptions& options) {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
+    subject->lower_body_hidden = hiding[0] || hiding[1];
     return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
 
@@ -425,6 +427,7 @@ struct CvsmTracker::Impl {
       cost_height = frontal.height();
     }
     cost->set_silhouettes(frontal, lateral);
+    find_hidden(frontal, lateral);
 
     if (phase == Phase::Building) {
       // Building the subject model: only from clean frames.
@@ -506,10 +509,44 @@ struct CvsmTracker::Impl {
       previous = before;
       phase = flag.empty() ? Phase::Predicting : Phase::Tracking;
     }
+    // An occluder hides the lower body in both views: no view sees the
+    // legs or the pelvis's lower outline, so the waist rests on the model's
+    // guess of them (docs/cvsm.md, "Occluded lower body"). Not published
+    // as tracking; the fit goes on from this pose.
+    if (r.state == TrackingState::Tracking && hiding[0] && hiding[1]) {
+      r.state = TrackingState::Lost;
+      if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+    }
     return r;
   }
 
   int cost_width = 0, cost_height = 0;
+
+  // What an occluder in front of the person hides in each view (docs/cvsm.md,
+  // "Occluded lower body"): the cost does not count the model there.
+  std::array<BitMask, 2> hidden;
+  std::array<bool, 2> hiding{};
+  void find_hidden(const BitMask& frontal, const BitMask& lateral) {
+    // The floor under the person: under the waist once a model exists,
+    // else under the point the station looks at.
+    Eigen::Vector3d under = Eigen::Vector3d::Zero();
+    if (init_frames > 0) {
+      const Eigen::Vector3d waist = pose_vertebrae(model, spine, pose)[kWaistIndex].body_center;
+      under = {waist.x(), 0, waist.z()};
+    }
+    const BitMask* masks[2] = {&frontal, &lateral};
+    const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
+    for (std::size_t v = 0; v < 2; ++v) {
+      hiding[v] = false;
+      const std::optional<Eigen::Vector2d> floor = cams[v]->project(under);
+      if (!floor) continue;
+      if (const auto edge = cvsm_detail::find_occluder_edge(*masks[v], floor->y())) {
+        cvsm_detail::hidden_below(*edge, *masks[v], hidden[v]);
+        hiding[v] = true;
+      }
+    }
+    cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+  }
 };
 
 CvsmTracker::CvsmTracker(const CameraRig& rig, CvsmOptions options) : impl_(std::make_unique<Impl>(rig, std::move(options))) {}
