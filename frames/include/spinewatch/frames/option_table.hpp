@@ -43,8 +43,8 @@ struct OptionKey {
   std::pair<double, double> number_range{0, 0};
   bool zero_is_unknown = false;  // Number: 0 (not known) or a value in the range
   std::vector<std::string> names;  // Mode: its names; Text: the values allowed (none: any)
-  // Text: a check of its own ("" when fine, else the problem), for a value
-  // with a grammar (a URL).
+  // Text: a check of its own (the problem, or nothing when the value is
+  // fine), for a value with a grammar (a URL).
   std::function<std::optional<std::string>(const std::string&)> check_text;
   Reload reload = Reload::Restart;
   std::function<OptionValue(const S&)> get;
