@@ -224,7 +224,15 @@ TEST_F(CalibrateCli, AMirroredCameraIsNamedAndCalibratedWithMirror) {
   test::TempDir dir;
   const std::string mirrored = "calibrate --views " + (dir_->path() / "views_mirrored").string() + " --placement " +
                                (dir_->path() / "placement_mirrored").string() + " --board-centre-height 1100";
-  auto refused = test::run_cli(mirrored + " --out " + (dir / "refused.yaml").string());
+  // The refusal with the frontal camera's intrinsics given: only the
+  // lateral camera's views are looked at.
+  CameraModel frontal = truth().frontal;
+  frontal.image_width = 320;
+  frontal.image_height = 240;
+  ASSERT_TRUE(save_intrinsics(dir / "frontal.yaml", frontal));
+  auto refused = test::run_cli(mirrored + " --frontal-intrinsics " + (dir / "frontal.yaml").string() + " --out " +
+                               (dir / "refused.yaml").string());
+  std::printf("%s", refused.output.c_str());
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   EXPECT_NE(refused.output.find("refused: lateral camera: its images are mirrored (left–right flipped, a webcam's "
                                 "mirror or selfie setting): the board is found in "),
