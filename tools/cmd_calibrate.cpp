@@ -260,10 +260,9 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
       for (std::size_t i = 0; i < 2; ++i)
         if (frames[i].flipped)
-          fmt::print("the {0} camera's calibration is of its images flipped left to right: the station must get "
+          fmt::print("the {} camera's calibration is of its images flipped left to right: the station must get "
                      "them so. Switch the camera's mirroring off (v4l2-ctl -d DEVICE --set-ctrl horizontal_flip=1 "
-                     "on a camera that mirrors; docs/calibration.md, \"A mirrored camera\"), or import its videos "
-                     "with spinewatch import --mirror {0}\n",
+                     "on a camera that mirrors; docs/calibration.md, \"A mirrored camera\")\n",
                      kCameraNames[i]);
     };
     auto usage = [&exit_code](const std::string& message) {
