@@ -69,6 +69,10 @@ struct CameraFrames {
   // other (calibrate --live keeps each camera's own still frames): then
   // only the placement's frames are shared views.
   bool views_taken_together = true;
+  // The frames were flipped left to right before they came here (calibrate
+  // --mirror: a camera that films mirror-imaged); only changes what a
+  // refusal suggests.
+  bool flipped = false;
 };
 
 struct ViewError {
