@@ -1,6 +1,7 @@
 #pragma once
-// fit.flag values that the estimator sets itself (the silhouette statuses
-// are in silhouette.hpp); each documented in docs/protocol.md.
+// fit.flag values that the estimator and the daemon's pipeline set
+// themselves (the silhouette statuses are in silhouette.hpp); each
+// documented in docs/protocol.md.
 #include <string_view>
 
 namespace spinewatch {
@@ -8,5 +9,11 @@ namespace spinewatch {
 // A tracked pair whose silhouettes show an axial twist of the trunk whose
 // sign the fit cannot tell (docs/cvsm.md, "Axial twist").
 inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
+
+// Not a pair: a camera went away here; one lost posture marks the gap.
+inline constexpr std::string_view kCameraLostFlag = "camera_lost";
+
+// A stage of the estimator threw on this pair; it is reported lost.
+inline constexpr std::string_view kEstimatorErrorFlag = "estimator_error";
 
 }  // namespace spinewatch
