@@ -37,6 +37,7 @@ Status Daemon::Impl::open_source(DaemonParts& parts, std::unique_ptr<PairSource>
     plan = SourcePlan{};
     plan.kind = SourcePlan::Kind::Cameras;
     plan.why = "given by the caller: " + parts.source->describe();
+    lossless = true;
   } else {
     auto planned = plan_source(config);
     if (!planned) return planned.error();
@@ -107,7 +108,7 @@ Status Daemon::Impl::start_pipeline(std::unique_ptr<PairSource> source, PostureF
         return estimate(pair);
       },
       [this](const Posture& posture, const FramePair& pair) { on_posture(posture, pair); },
-      PipelineOptions{.pair_queue = 4, .lossless = plan.kind == SourcePlan::Kind::Recording && !plan.paced});
+      PipelineOptions{.pair_queue = 4, .lossless = lossless || (plan.kind == SourcePlan::Kind::Recording && !plan.paced)});
   return Ok{};
 }
 

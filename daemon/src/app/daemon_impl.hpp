@@ -63,6 +63,7 @@ struct Daemon::Impl {
   Config config;  // main thread after start (reload)
   DaemonOverrides overrides;
   SourcePlan plan;
+  bool lossless = false;  // the source waits for the estimator: a fast replay, or a caller's source
   CameraRig rig;
   std::string calibration_used;  // "" for the default rig
   std::string source_name;

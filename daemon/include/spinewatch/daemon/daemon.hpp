@@ -25,7 +25,9 @@ struct DaemonOverrides {  // from the command line; win over [publish]
 // What a caller (a test, an embedding program) puts in place of the
 // station's own parts. Empty: all the station's own, as the configuration says.
 struct DaemonParts {
-  std::unique_ptr<PairSource> source;  // instead of the cameras or recording [cameras] names
+  // Instead of the cameras or recording [cameras] names; it is read
+  // lossless, as a fast replay: it waits for the estimator, no pair dropped.
+  std::unique_ptr<PairSource> source;
   PostureFn estimate;                  // instead of the posture estimator
   // Outputs after the station's own (publisher, storage, MQTT, alert line,
   // live view); they stop last, in this order.
