@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/posture_sink.hpp"
+#include "spinewatch/daemon/note_level.hpp"
 
 namespace spinewatch {
 

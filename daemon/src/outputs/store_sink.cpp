@@ -9,13 +9,13 @@ void StoreSink::on_posture(const PostureEvent& event) {
 }
 
 void StoreSink::on_summary(const SummaryLine& s, const std::string& worker) {
-  store_->add_summary(std::string(to_string(s.summary.scope)), s.summary.start_ns, s.summary.end_ns, worker, s.line);
+  store_->add_summary(s.summary.scope, s.summary.start_ns, s.summary.end_ns, worker, s.line);
 }
 
 void StoreSink::on_alert(const AlertEvent& event, const std::string& line) { store_->add_alert(event.t_ns, line); }
 
 void StoreSink::on_note(NoteLevel level, std::string_view message) {
-  store_->add_event(std::string(to_string(level)), std::string(message));
+  store_->add_event(level, std::string(message));
 }
 
 void StoreSink::add_status(std::string& text) const {

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "spinewatch/daemon/daemon_metrics.hpp"
+#include "spinewatch/daemon/note_level.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
 #include "spinewatch/daemon/summary_stream.hpp"
 #include "spinewatch/estimator/load/alerts.hpp"
@@ -26,10 +27,6 @@ struct PostureEvent {
   const std::string& line;      // the stream's posture line, without its newline
 };
 
-// The station's own notes (start, reload, stop) for outputs that keep a log.
-enum class NoteLevel { Info, Warning, Error };
-std::string_view to_string(NoteLevel level);  // "info", "warning", "error" (the store's events.level)
-
 class PostureSink {
  public:
   virtual ~PostureSink() = default;
@@ -42,7 +39,8 @@ class PostureSink {
   virtual void on_summary(const SummaryLine& /*summary*/, const std::string& /*worker*/) {}
   // An alert raised or cleared; `line` is its stream line.
   virtual void on_alert(const AlertEvent& /*event*/, const std::string& /*line*/) {}
-  // Any thread.
+  // The station's own notes (start, reload, stop), for outputs that keep a
+  // log; any thread.
   virtual void on_note(NoteLevel /*level*/, std::string_view /*message*/) {}
 
   // Its counters: into the metrics (/metrics, /state, the posture lines'
