@@ -121,7 +121,7 @@ Status Daemon::Impl::start_http(LiveViewSink& live, const HttpOptions& options) 
                       .source = source_name,
                       .calibration = calibration_used.empty() ? "default rig" : calibration_used,
                       .default_rig = calibration_used.empty(),
-                      .background_mode = std::string(to_string(config.silhouette.background)),
+                      .background_mode = config.silhouette.background,
                       .relearn_available = config.silhouette.background == BackgroundMode::Learn,
                       .fps = h.fps,
                       .camera_pixels = h.camera_pixels};
