@@ -157,7 +157,7 @@ std::string validate_state(const std::string& json) {
 
 StationInfo sample_station() {
   return {.station = "s7", .source = "recording /x", .calibration = "default rig", .default_rig = true,
-          .background_mode = "learn", .relearn_available = true, .fps = 5, .camera_pixels = false};
+          .background_mode = BackgroundMode::Learn, .relearn_available = true, .fps = 5, .camera_pixels = false};
 }
 
 TEST(StateJson, BeforeTheFirstSampleAndWithATrackedOneValidAgainstTheSchema) {
@@ -287,7 +287,7 @@ class HttpServerTest : public ::testing::Test {
     if (thread_.joinable()) thread_.join();
     spdlog::set_level(spdlog::level::info);
   }
-  void start(HttpOptions options, std::string background_mode = "learn") {
+  void start(HttpOptions options, BackgroundMode background_mode = BackgroundMode::Learn) {
     options.endpoint = {"127.0.0.1", 0};
     live_ = std::make_unique<LiveView>(CameraRig::default_rig(), LiveViewOptions{}, [](auto) {});
     StationInfo station = sample_station();
@@ -295,7 +295,7 @@ class HttpServerTest : public ::testing::Test {
     HttpHandlers handlers{.metrics = [] { return sample_metrics(); },
                           .relearn_background = [this, background_mode] {
                             ++relearns_;
-                            return background_mode == "learn";
+                            return background_mode == BackgroundMode::Learn;
                           }};
     auto s = HttpServer::start(io_, options, handlers, station, *live_);
     ASSERT_TRUE(s) << s.error().message;
@@ -429,7 +429,7 @@ TEST_F(HttpServerTest, RelearnIsAPostThatReachesTheDaemonOnlyInLearnMode) {
 }
 
 TEST_F(HttpServerTest, RelearnRefusedWithAStoredImageMode) {
-  start({}, "image");
+  start({}, BackgroundMode::Image);
   const auto r = test::http_request(port(), "POST", "/background/relearn");
   EXPECT_EQ(r.status, 409);
   EXPECT_NE(r.body.find("spinewatch background"), std::string::npos);

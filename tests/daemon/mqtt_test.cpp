@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../e2e/mqtt_broker.hpp"
+#include "mqtt_broker.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/daemon_metrics.hpp"
 #include "spinewatch/daemon/mqtt_outbox.hpp"

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "fake_pair_source.hpp"
+#include "spinewatch/daemon/testing/fake_pair_source.hpp"
 #include "spinewatch/daemon/pipeline.hpp"
 #include "spinewatch/daemon/publisher.hpp"
 #include "spinewatch/daemon/stream_lines.hpp"
@@ -37,7 +37,7 @@ struct Collected {
 TEST(Pipeline, SeqCountsPairsSinceStartAcrossALoopingSource) {
   Collected out;
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 300, .lap = 90}),
-                    test::lost_posture, [&](const Posture& p) { out.add(p); }, {.pair_queue = 4, .lossless = true});
+                    test::lost_posture, [&](const Posture& p, const FramePair&) { out.add(p); }, {.pair_queue = 4, .lossless = true});
   pipeline.start();
   ASSERT_TRUE(test::eventually([&] { return out.size() == 300; }));
   pipeline.stop();
@@ -57,7 +57,7 @@ TEST(Pipeline, SlowEstimatorDropsTheOldestPairsAndCountsThem) {
     return test::lost_posture(pair);
   };
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 200}), slow,
-                    [&](const Posture& p) { out.add(p); }, {.pair_queue = 4});
+                    [&](const Posture& p, const FramePair&) { out.add(p); }, {.pair_queue = 4});
   pipeline.start();
   ASSERT_TRUE(test::eventually([&] { return pipeline.stats().pairs == 200 && pipeline.stats().pairs_processed +
                                                                                  pipeline.stats().pairs_dropped == 200; }));
@@ -73,7 +73,7 @@ TEST(Pipeline, SlowEstimatorDropsTheOldestPairsAndCountsThem) {
 TEST(Pipeline, StopReturnsPromptlyWhileTheSourceWaits) {
   Collected out;
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 5}), test::lost_posture,
-                    [&](const Posture& p) { out.add(p); }, {.lossless = true});
+                    [&](const Posture& p, const FramePair&) { out.add(p); }, {.lossless = true});
   pipeline.start();
   ASSERT_TRUE(test::eventually([&] { return out.size() == 5; }));
   std::this_thread::sleep_for(20ms);
@@ -95,7 +95,7 @@ TEST(Pipeline, AnEstimatorExceptionBecomesALostPosture) {
   };
   spdlog::set_level(spdlog::level::off);
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 4}), faulty,
-                    [&](const Posture& p) { out.add(p); }, {.lossless = true});
+                    [&](const Posture& p, const FramePair&) { out.add(p); }, {.lossless = true});
   pipeline.start();
   ASSERT_TRUE(test::eventually([&] { return out.size() == 4; }));
   pipeline.stop();
@@ -115,7 +115,7 @@ TEST(Pipeline, ACameraLossIsOneLostLineFlaggedCameraLostThatTheEstimatorNeverSee
     return test::lost_posture(pair);
   };
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = 6, .camera_lost_at = 3}),
-                    counting, [&](const Posture& p) { out.add(p); }, {.lossless = true});
+                    counting, [&](const Posture& p, const FramePair&) { out.add(p); }, {.lossless = true});
   pipeline.start();
   ASSERT_TRUE(test::eventually([&] { return out.size() == 7; }));
   pipeline.stop();
@@ -168,7 +168,7 @@ TEST(PipelineMemory, RssStaysFlatOverTenThousandPairs) {
   constexpr std::uint64_t kPairs = 10'000;
   long rss_at_1000 = 0, rss_at_10000 = 0;
   Pipeline pipeline(std::make_unique<FakePairSource>(FakePairSource::Options{.count = kPairs}), test::lost_posture,
-                    [&](const Posture& p) {
+                    [&](const Posture& p, const FramePair&) {
                       (*publisher)->publish(encode_posture_line(p, StreamStats{p.seq + 1, 0, 0, 1, 0}));
                       if (p.seq + 1 == 1000) rss_at_1000 = vm_rss_kb();
                       if (p.seq + 1 == kPairs) rss_at_10000 = vm_rss_kb();

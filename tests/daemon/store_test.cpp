@@ -37,11 +37,11 @@ TEST(Store, WritesEveryKindInWalModeAndReadsTheIntervalSummariesBack) {
   {
     Store store({.path = path});
     for (int i = 0; i < 100; ++i) store.add_posture(std::uint64_t(i), i * 33'333'333LL, "{\"class\":\"posture\",\"seq\":" + std::to_string(i) + "}");
-    store.add_summary("interval", 0, 60, "", "{\"i\":1}");
-    store.add_summary("shift", 0, 60, "", "{\"s\":1}");
-    store.add_summary("interval", 60, 120, "w-17", "{\"i\":2}");
+    store.add_summary(SummaryScope::Interval, 0, 60, "", "{\"i\":1}");
+    store.add_summary(SummaryScope::Shift, 0, 60, "", "{\"s\":1}");
+    store.add_summary(SummaryScope::Interval, 60, 120, "w-17", "{\"i\":2}");
     store.add_alert(5, "{\"class\":\"alert\"}");
-    store.add_event("info", "started");
+    store.add_event(NoteLevel::Info, "started");
     store.stop();
     EXPECT_EQ(store.stats().written, 105u);
     EXPECT_EQ(store.stats().dropped + store.stats().failed, 0u);
@@ -117,7 +117,7 @@ TEST(Store, AReadOnlyFileIsCountedNotFatal) {
   const auto path = dir / "s.db";
   {
     Store store({.path = path});
-    store.add_event("info", "made");
+    store.add_event(NoteLevel::Info, "made");
   }
   // Root writes through file modes; an immutable file it cannot.
   if (test::run_command("chattr +i '" + path.string() + "'").exit_code != 0)

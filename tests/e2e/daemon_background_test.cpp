@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../daemon/test_client.hpp"
+#include "test_client.hpp"
 #include "daemon_process.hpp"
 #include "test_support.hpp"
 

@@ -13,7 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "test_support.hpp"
-#include "../daemon/test_client.hpp"
+#include "test_client.hpp"
 #include "http_daemon.hpp"
 
 namespace spinewatch {

@@ -16,8 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../daemon/http_client.hpp"
-#include "../daemon/test_client.hpp"
+#include "http_client.hpp"
+#include "test_client.hpp"
 #include "daemon_process.hpp"
 #include "mqtt_broker.hpp"
 #include "test_support.hpp"

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
-#include "../daemon/test_client.hpp"
+#include "test_client.hpp"
 #include "http_daemon.hpp"
 #include "tls_client.hpp"
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../daemon/http_client.hpp"
+#include "http_client.hpp"
 #include "daemon_process.hpp"
 #include "test_support.hpp"
 

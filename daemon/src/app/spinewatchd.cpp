@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
-#include "daemon.hpp"
+#include "spinewatch/daemon/daemon.hpp"
 #include "spinewatch/daemon/logging.hpp"
 #include "spinewatch/version.hpp"
 

@@ -195,7 +195,7 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
         else
           respond(http::status::conflict, "application/json",
                   fmt::format(R"({{"relearn":false,"message":"silhouette.background = \"{}\": only a learnt background can be re-learnt; capture a stored one with spinewatch background"}})",
-                              s.station.background_mode));
+                              to_string(s.station.background_mode)));
         return;
       }
       case HttpRoute::NotFound:

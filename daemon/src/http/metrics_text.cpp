@@ -61,11 +61,8 @@ void mqtt_metrics(std::string& out, const MqttStats& q) {
       .sample(q.failed_network, "reason=\"network\"");
 }
 
-}  // namespace
-
-std::string metrics_text(const DaemonMetrics& m) {
-  std::string out;
-  out.reserve(6000);
+// The source and the estimator: pairs, frames, cameras, postures, backgrounds.
+void pipeline_metrics(std::string& out, const DaemonMetrics& m) {
   const auto& p = m.pipeline;
   Family(out, "spinewatch_pairs_total", "counter", "Frame pairs taken from the source.").sample(p.pairs);
   Family(out, "spinewatch_pairs_processed_total", "counter", "Frame pairs the estimator turned into postures.")
@@ -96,22 +93,26 @@ std::string metrics_text(const DaemonMetrics& m) {
       .sample(m.background.updates, "event=\"update\"")
       .sample(m.background.relearns, "event=\"relearn\"")
       .sample(m.background.bootstraps, "event=\"bootstrap\"");
+}
 
-  {
-    Family h(out, "spinewatch_pair_latency_seconds", "histogram",
-             "Per-pair latency: the source handing the pair over to its posture being ready.");
-    std::uint64_t cumulative = 0;
-    for (std::size_t i = 0; i < LatencyHistogram::kBounds.size(); ++i) {
-      cumulative += m.latency.buckets[i];
-      h.sample(static_cast<double>(cumulative), fmt::format("le=\"{}\"", LatencyHistogram::kBounds[i]), "_bucket");
-    }
-    cumulative += m.latency.buckets.back();
-    h.sample(static_cast<double>(cumulative), "le=\"+Inf\"", "_bucket");
-    h.sample(m.latency.sum_s, {}, "_sum");
-    h.sample(static_cast<double>(m.latency.count), {}, "_count");
+void latency_metrics(std::string& out, const DaemonMetrics& m) {
+  Family h(out, "spinewatch_pair_latency_seconds", "histogram",
+           "Per-pair latency: the source handing the pair over to its posture being ready.");
+  std::uint64_t cumulative = 0;
+  for (std::size_t i = 0; i < LatencyHistogram::kBounds.size(); ++i) {
+    cumulative += m.latency.buckets[i];
+    h.sample(static_cast<double>(cumulative), fmt::format("le=\"{}\"", LatencyHistogram::kBounds[i]), "_bucket");
   }
+  cumulative += m.latency.buckets.back();
+  h.sample(static_cast<double>(cumulative), "le=\"+Inf\"", "_bucket");
+  h.sample(m.latency.sum_s, {}, "_sum");
+  h.sample(static_cast<double>(m.latency.count), {}, "_count");
+}
 
+// The posture stream's clients and lines, and every bounded queue.
+void stream_metrics(std::string& out, const DaemonMetrics& m) {
   const auto& c = m.publisher;
+  const auto& p = m.pipeline;
   Family(out, "spinewatch_stream_clients", "gauge", "Posture stream clients connected (TCP and Unix socket).")
       .sample(c.clients);
   Family(out, "spinewatch_stream_clients_total", "counter", "Posture stream clients accepted.").sample(c.clients_total);
@@ -134,7 +135,10 @@ std::string metrics_text(const DaemonMetrics& m) {
       .sample(static_cast<std::uint64_t>(p.pair_queue_capacity), "queue=\"pairs\"")
       .sample(static_cast<std::uint64_t>(c.inbox_capacity), "queue=\"stream_inbox\"")
       .sample(static_cast<std::uint64_t>(m.live.mailbox_capacity), "queue=\"live_view\"");
+}
 
+// The HTTP server and the live view it serves.
+void http_metrics(std::string& out, const DaemonMetrics& m) {
   const auto& h = m.http;
   Family(out, "spinewatch_http_connections", "gauge", "HTTP connections open.").sample(h.connections);
   Family(out, "spinewatch_http_connections_total", "counter", "HTTP connections accepted.").sample(h.connections_total);
@@ -161,7 +165,17 @@ std::string metrics_text(const DaemonMetrics& m) {
   Family(out, "spinewatch_live_frames_total", "counter", "Live view pictures drawn and JPEG-encoded.").sample(l.frames);
   Family(out, "spinewatch_live_render_seconds_total", "counter", "Time spent drawing and encoding live view pictures.")
       .sample(static_cast<double>(l.render_us) * 1e-6);
+}
 
+}  // namespace
+
+std::string metrics_text(const DaemonMetrics& m) {
+  std::string out;
+  out.reserve(6000);
+  pipeline_metrics(out, m);
+  latency_metrics(out, m);
+  stream_metrics(out, m);
+  http_metrics(out, m);
   if (m.mqtt) mqtt_metrics(out, *m.mqtt);
 
   Family(out, "spinewatch_pairs_per_second", "gauge", "Pairs processed per second over the last second.")

@@ -42,7 +42,7 @@ std::string state_json(const StationInfo& station, const DaemonMetrics& m, const
   }
   j["views"] = {{"frontal", view_json(latest, 0)}, {"lateral", view_json(latest, 1)}};
   j["calibration"] = {{"source", station.calibration}, {"default_rig", station.default_rig}};
-  j["background"] = {{"mode", station.background_mode}, {"relearn", station.relearn_available}};
+  j["background"] = {{"mode", std::string(to_string(station.background_mode))}, {"relearn", station.relearn_available}};
   j["live"] = {{"fps", station.fps}, {"camera_pixels", station.camera_pixels}};
   const auto& p = m.pipeline;
   j["counters"] = {

@@ -4,14 +4,15 @@
 
 #include <spdlog/spdlog.h>
 
+#include "spinewatch/estimator/fit_flags.hpp"
 #include "spinewatch/frames/clock.hpp"
 
 namespace spinewatch {
 
 PairSource::~PairSource() = default;
 
-Pipeline::Pipeline(std::unique_ptr<PairSource> source, PostureFn estimate, PostureSink sink, PipelineOptions options)
-    : source_(std::move(source)), estimate_(std::move(estimate)), sink_(std::move(sink)), queue_(options.pair_queue), lossless_(options.lossless) {}
+Pipeline::Pipeline(std::unique_ptr<PairSource> source, PostureFn estimate, PostureHandler handler, PipelineOptions options)
+    : source_(std::move(source)), estimate_(std::move(estimate)), handler_(std::move(handler)), queue_(options.pair_queue), lossless_(options.lossless) {}
 
 Pipeline::~Pipeline() { stop(); }
 
@@ -54,7 +55,7 @@ void Pipeline::run_estimator() {
       if (item->pair.camera_lost) {
         // Not a pair: a camera went away here. One lost line marks the gap.
         posture.state = TrackingState::Lost;
-        posture.fit.flag = "camera_lost";
+        posture.fit.flag = std::string(kCameraLostFlag);
       } else {
         posture = estimate_(item->pair);
       }
@@ -63,13 +64,13 @@ void Pipeline::run_estimator() {
       spdlog::error("estimator failed on pair {}: {}", item->pair.sequence, e.what());
       posture = Posture{};
       posture.state = TrackingState::Lost;
-      posture.fit.flag = "estimator_error";
+      posture.fit.flag = std::string(kEstimatorErrorFlag);
     }
     posture.seq = item->pair.sequence;
     posture.t_ns = item->pair.timestamp_ns;
     posture.latency_us = std::max<std::int64_t>(0, (monotonic_now_ns() - item->received_ns) / 1000);
     pairs_processed_.fetch_add(1, std::memory_order_relaxed);
-    sink_(posture);
+    handler_(posture, item->pair);
   }
 }
 

@@ -163,12 +163,13 @@ void Store::add(Record record) {
 void Store::add_posture(std::uint64_t seq, std::int64_t t_ns, std::string line) {
   add({Record::Kind::Posture, 0, std::int64_t(seq), t_ns, {}, {}, std::move(line)});
 }
-void Store::add_summary(std::string scope, std::int64_t start_ns, std::int64_t end_ns, std::string worker, std::string line) {
-  add({Record::Kind::Summary, 0, start_ns, end_ns, std::move(scope), std::move(worker), std::move(line)});
+void Store::add_summary(SummaryScope scope, std::int64_t start_ns, std::int64_t end_ns, std::string worker,
+                        std::string line) {
+  add({Record::Kind::Summary, 0, start_ns, end_ns, std::string(to_string(scope)), std::move(worker), std::move(line)});
 }
 void Store::add_alert(std::int64_t t_ns, std::string line) { add({Record::Kind::Alert, 0, t_ns, 0, {}, {}, std::move(line)}); }
-void Store::add_event(std::string level, std::string message) {
-  add({Record::Kind::Event, 0, 0, 0, std::move(level), {}, std::move(message)});
+void Store::add_event(NoteLevel level, std::string message) {
+  add({Record::Kind::Event, 0, 0, 0, std::string(to_string(level)), {}, std::move(message)});
 }
 
 StoreStats Store::stats() const {

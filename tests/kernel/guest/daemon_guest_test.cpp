@@ -103,7 +103,7 @@ TEST(Daemon, CameraUnpluggedAndBackIsMarkedOnceAndPairingResumes) {
     p.state = TrackingState::Init;
     return p;
   };
-  Pipeline pipeline(std::move(source).value(), estimate, [&](const Posture& p) { lines.add(p); }, {.pair_queue = 16});
+  Pipeline pipeline(std::move(source).value(), estimate, [&](const Posture& p, const FramePair&) { lines.add(p); }, {.pair_queue = 16});
   pipeline.start();
   ASSERT_TRUE(wait_for([&] { return lines.snapshot().size() >= 10; }, 20s)) << "no pairs before the unplug";
 

@@ -54,7 +54,7 @@ Result<std::optional<BackgroundImages>> stored_background(const std::filesystem:
 }  // namespace
 
 Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const ReplayOptions& options,
-                                     const PostureSink& sink, const ProgressSink& progress) {
+                                     const PostureConsumer& sink, const ProgressSink& progress) {
   auto source = RecordingSource::open(dir, RecordingSourceOptions{.paced = false, .loop = false});
   if (!source) return source.error();
   ReplayStats stats;

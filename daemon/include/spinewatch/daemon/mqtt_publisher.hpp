@@ -63,6 +63,11 @@ struct MqttStats {
   std::uint64_t failed_network = 0;  // unreachable, refused, name not known, no answer
   // Messages the broker has (QoS 1: acknowledged; QoS 0: written to the connection), by topic.
   std::uint64_t published_status = 0, published_summary = 0, published_alert = 0, published_posture = 0;
+
+  // Dropped for any reason (the posture lines' mqtt_dropped, the status line).
+  std::uint64_t dropped() const {
+    return dropped_disconnected + dropped_queue_full + dropped_outbox_full + dropped_handoff_full + dropped_outbox_error;
+  }
 };
 
 class MqttPublisher {

@@ -1,8 +1,8 @@
 #pragma once
 // The daemon's processing chain: a source thread pulls frame pairs and
 // numbers them, a bounded queue hands them to the estimator thread, which
-// turns each into a Posture and hands it to the sink (the publisher's inbox,
-// which never blocks). The estimator thread never waits on I/O.
+// turns each into a Posture and hands it, with its pair, to the handler (the
+// daemon's outputs, which never block). The estimator thread never waits on I/O.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -17,8 +17,9 @@ namespace spinewatch {
 
 // The estimator stage (PostureEstimator::process in the daemon, fakes in tests).
 using PostureFn = std::function<Posture(const FramePair&)>;
-// Receives every posture on the estimator thread; must not block.
-using PostureSink = std::function<void(const Posture&)>;
+// Receives every posture, with the pair it came from, on the estimator
+// thread; must not block.
+using PostureHandler = std::function<void(const Posture&, const FramePair&)>;
 
 struct PipelineOptions {
   std::size_t pair_queue = 4;  // pairs waiting for the estimator before the oldest is dropped
@@ -38,7 +39,7 @@ struct PipelineStats {
 
 class Pipeline {
  public:
-  Pipeline(std::unique_ptr<PairSource> source, PostureFn estimate, PostureSink sink, PipelineOptions options = {});
+  Pipeline(std::unique_ptr<PairSource> source, PostureFn estimate, PostureHandler handler, PipelineOptions options = {});
   ~Pipeline();  // stops and joins
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -63,7 +64,7 @@ class Pipeline {
 
   std::unique_ptr<PairSource> source_;
   PostureFn estimate_;
-  PostureSink sink_;
+  PostureHandler handler_;
   BoundedQueue<Queued> queue_;
   const bool lossless_;
   std::atomic<std::uint64_t> pairs_{0}, pairs_dropped_{0}, pairs_processed_{0};

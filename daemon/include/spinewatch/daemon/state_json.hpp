@@ -6,6 +6,7 @@
 #include <string>
 
 #include "spinewatch/daemon/daemon_metrics.hpp"
+#include "spinewatch/estimator/silhouette/silhouette.hpp"
 
 namespace spinewatch {
 
@@ -15,7 +16,7 @@ struct StationInfo {
   std::string source;           // the frame source, as in the hello line
   std::string calibration;      // the calibration file used, or "default rig"
   bool default_rig = false;
-  std::string background_mode;  // silhouette.background: learn | image | threshold
+  BackgroundMode background_mode = BackgroundMode::Learn;  // silhouette.background
   bool relearn_available = false;  // POST /background/relearn has an effect
   double fps = 0;               // http.fps
   bool camera_pixels = false;   // http.camera_pixels

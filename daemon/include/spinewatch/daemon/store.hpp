@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "spinewatch/daemon/bounded_queue.hpp"
+#include "spinewatch/daemon/note_level.hpp"
+#include "spinewatch/estimator/load/exposure_summary.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {
@@ -41,9 +43,9 @@ class Store {
 
   // Any thread; never blocks on the database. `line` is the stream line.
   void add_posture(std::uint64_t seq, std::int64_t t_ns, std::string line);
-  void add_summary(std::string scope, std::int64_t start_ns, std::int64_t end_ns, std::string worker, std::string line);
+  void add_summary(SummaryScope scope, std::int64_t start_ns, std::int64_t end_ns, std::string worker, std::string line);
   void add_alert(std::int64_t t_ns, std::string line);
-  void add_event(std::string level, std::string message);
+  void add_event(NoteLevel level, std::string message);
   // Writes what is queued, closes the database, joins. Idempotent.
   void stop();
 

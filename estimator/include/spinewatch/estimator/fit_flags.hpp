@@ -1,6 +1,7 @@
 #pragma once
-// fit.flag values that the estimator sets itself (the silhouette statuses
-// are in silhouette.hpp); each documented in docs/protocol.md.
+// fit.flag values that the estimator and the daemon's pipeline set
+// themselves (the silhouette statuses are in silhouette.hpp); each
+// documented in docs/protocol.md.
 #include <string_view>
 
 namespace spinewatch {
@@ -14,5 +15,11 @@ inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
 // waist is not pinned and the pair is lost (docs/cvsm.md, "Occluded lower
 // body").
 inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
+
+// Not a pair: a camera went away here; one lost posture marks the gap.
+inline constexpr std::string_view kCameraLostFlag = "camera_lost";
+
+// A stage of the estimator threw on this pair; it is reported lost.
+inline constexpr std::string_view kEstimatorErrorFlag = "estimator_error";
 
 }  // namespace spinewatch

@@ -48,11 +48,11 @@ struct ReplayProgress {
   std::uint64_t pairs_expected = 0;  // min of the two streams' frame counts
 };
 
-using PostureSink = std::function<Status(const Posture&)>;
+using PostureConsumer = std::function<Status(const Posture&)>;
 using ProgressSink = std::function<void(const ReplayProgress&)>;
 
 // Errors: the recording's (file and problem) or the first error the sink returns.
 Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const ReplayOptions& options,
-                                     const PostureSink& sink, const ProgressSink& progress = {});
+                                     const PostureConsumer& sink, const ProgressSink& progress = {});
 
 }  // namespace spinewatch
