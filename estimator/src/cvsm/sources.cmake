@@ -8,6 +8,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/outline_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/segment_scan.cpp
   ${CMAKE_CURRENT_LIST_DIR}/subject_estimate.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/subject_heading.cpp
   ${CMAKE_CURRENT_LIST_DIR}/template_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp)
 # The generic model, built into the library (like config/spine-generic.toml).

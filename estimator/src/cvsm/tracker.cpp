@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "coordinate_search.hpp"
 #include "outline_fit.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 #include "subject_estimate.hpp"
+#include "subject_heading.hpp"
 
 namespace spinewatch {
 
@@ -159,11 +162,16 @@ struct CvsmTracker::Impl {
 
   XorCounts evaluate(const BodyModel& m, const CvsmPose& p, std::int64_t limit) {
     const SpinePose v = pose_vertebrae(m, spine, p);
-    control_points(m, v, points, p.limbs);
+    control_points(m, v, points, p.limbs, p.heading);
     return cost->evaluate(m, points, limit);
   }
   // The pose with these trunk parameters and the limbs held where they are.
-  CvsmPose trunk_pose(const PoseParams& a) const { return to_pose(a, pose.limbs); }
+  // The heading, too, is held: it has a search of its own (follow_heading).
+  CvsmPose trunk_pose(const PoseParams& a) const {
+    CvsmPose p = to_pose(a, pose.limbs);
+    p.heading = pose.heading;
+    return p;
+  }
 
   // The hip joints stay where the subject stood or sat: moving them is
   // charged in pixels, so a bend is explained by the spine and pelvis
@@ -237,8 +245,10 @@ struct CvsmTracker::Impl {
     auto d = coordinate_descent(c.best, c.best_cost, step, 2, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
     pose = trunk_pose(d.params);
+    searched_cost = d.best;
     return c.evaluations + d.evaluations;
   }
+  std::int64_t searched_cost = INT64_MAX;  // local_search's result's
 
   // The articulated limbs, with the trunk held where its search left it:
   // probes of each angle, then a coordinate descent over the fifteen
@@ -316,10 +326,61 @@ struct CvsmTracker::Impl {
       }
     PoseParams a = to_params(pose);
     const int scans = fit.refine(a, steps, [&](const PoseParams& p, std::vector<Eigen::Vector3d>& out) {
-      control_points(model, pose_vertebrae(model, spine, trunk_pose(p)), out, pose.limbs);
+      control_points(model, pose_vertebrae(model, spine, trunk_pose(p)), out, pose.limbs, pose.heading);
     }, prior);
     pose = trunk_pose(a);
     return scans;
+  }
+
+  // The heading per tracked pair: one step either way from where it was
+  // (a person turns a few degrees between pairs), kept when it fits
+  // better. Two evaluations.
+  static constexpr double kHeadingStepDeg = 2;
+  int follow_heading(std::int64_t current_cost) {
+    const PoseParams a = to_params(pose);
+    std::int64_t best = current_cost;
+    const double start = pose.heading;
+    for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
+      CvsmPose trial = pose;
+      trial.heading = start + step;
+      const std::int64_t c = cost_of(trial, a, best);
+      if (c < best) {
+        best = c;
+        pose = trial;
+      }
+    }
+    return 2;
+  }
+
+  // At (re)acquisition the subject may have turned any way: the full
+  // circle, every kHeadingProbeDeg, at the upright trunk where the subject
+  // was last; the global search then starts from the best.
+  // Sets heading_resolved: whether the best heading beat every heading
+  // 90° or more from it by choose_heading's margin.
+  int probe_headings() {
+    CvsmPose upright = pose;
+    upright.flexion = upright.lateral = upright.twist = upright.pelvis_flexion = upright.pelvis_lateral = 0;
+    struct Probe {
+      CvsmPose pose;
+      std::int64_t cost;
+    };
+    std::vector<Probe> probes;
+    std::size_t best = 0;
+    for (double h = 0; h < 360; h += cvsm_detail::kHeadingProbeDeg) {
+      const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, cvsm_detail::wrapped_heading(pose.heading + h));
+      probes.push_back({trial, cost_of(trial, to_params(trial), INT64_MAX)});
+      if (probes.back().cost < probes[best].cost) best = probes.size() - 1;
+    }
+    std::int64_t other_side = INT64_MAX;
+    for (const Probe& p : probes)
+      if (cvsm_detail::heading_apart(p.pose.heading, probes[best].pose.heading) >= 90) other_side = std::min(other_side, p.cost);
+    cvsm_detail::HeadingChoice choice;
+    choice.margin_px = other_side - probes[best].cost;
+    const XorCounts counts = evaluate(*trunk_search_model, probes[best].pose, INT64_MAX);
+    choice.silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    heading_resolved = choice.resolved();
+    pose = probes[best].pose;
+    return static_cast<int>(probes.size()) + 1;
   }
 
   // Whole-range search over trunk flexion and lateral bending, then a wide
@@ -412,7 +473,10 @@ struct CvsmTracker::Impl {
   int start_subject(const BitMask& frontal, const BitMask& lateral, const CvsmOptions& options) {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
-    return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
+    heading_resolved = heading.resolved();
+    if (std::getenv("SW_DEBUG_HEADING")) std::fprintf(stderr, "heading %.1f margin %lld of %lld\n", subject->pose.heading, (long long)heading.margin_px, (long long)heading.silhouette_px);
+    return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
 
   CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag) {
@@ -445,6 +509,12 @@ struct CvsmTracker::Impl {
           candidates += start_subject(frontal, lateral, unknown);
           subject->rejected_stature_mm = rejected;
         }
+      } else if (!heading_resolved) {
+        // The first pairs did not tell front from back: the full circle
+        // again on this one (the subject may have bent or turned since).
+        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
+        heading_resolved = heading.resolved();
+        candidates += heading.evaluations;
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
@@ -454,7 +524,9 @@ struct CvsmTracker::Impl {
       home = pose.translation;
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
-      if (init_frames >= opt.subject_frames) {
+      // The model is complete only once the heading is known: a subject
+      // whose front the views cannot tell from its back stays init.
+      if (init_frames >= opt.subject_frames && heading_resolved) {
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
       }
@@ -472,7 +544,8 @@ struct CvsmTracker::Impl {
     const bool searched_globally = phase == Phase::Searching;
     if (searched_globally) {
       anchored = false;
-      candidates = global_search(opt.global_budget);
+      candidates = probe_headings();
+      candidates += global_search(opt.global_budget);
       // The limbs from wherever they were, in wide steps, then the trunk
       // again with them.
       candidates += limb_search(2 * opt.limb_budget, 8, 3);
@@ -483,6 +556,7 @@ struct CvsmTracker::Impl {
       // trunk held, the trunk once more.
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
       candidates = local_search(opt.local_budget);
+      candidates += follow_heading(searched_cost);
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
       candidates += joint_refinement(opt.joint_budget);
@@ -497,6 +571,8 @@ struct CvsmTracker::Impl {
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.
     if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);
+    // Found again, but its front not told from its back: not published.
+    if (searched_globally && !heading_resolved) r.state = TrackingState::Lost;
     if (r.state == TrackingState::Lost) {
       // Keep the last good pose as the start of the next search.
       if (!predicted) pose = before;
@@ -510,6 +586,11 @@ struct CvsmTracker::Impl {
   }
 
   int cost_width = 0, cost_height = 0;
+  // Whether the views told the subject's front from its back when the
+  // heading was last searched over the full circle (choose_heading while
+  // building, probe_headings at reacquisition): until they do, nothing is
+  // published as tracking (docs/cvsm.md, "Heading").
+  bool heading_resolved = true;
 };
 
 CvsmTracker::CvsmTracker(const CameraRig& rig, CvsmOptions options) : impl_(std::make_unique<Impl>(rig, std::move(options))) {}

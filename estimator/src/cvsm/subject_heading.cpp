@@ -1,0 +1,89 @@
+#include "subject_heading.hpp"
+
+#include <cmath>
+#include <vector>
+
+namespace spinewatch::cvsm_detail {
+namespace {
+
+// The mean of the trunk's vertebra rings in the horizontal plane.
+Eigen::Vector3d trunk_centre(const BodyModel& model, const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (std::size_t p = 0; p < model.planes.size(); ++p) {
+    if (!model.planes[p].vertebra) continue;
+    for (std::size_t k = 0; k < kControlPoints; ++k, ++n) sum += points[p * kControlPoints + k];
+  }
+  return n > 0 ? Eigen::Vector3d(sum / n) : sum;
+}
+
+XorCounts estimate_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                        std::vector<Eigen::Vector3d>& points) {
+  const BodyModel m = build(s, spec, spine);
+  control_points(m, pose_vertebrae(m, spine, s.pose), points, {}, s.pose.heading);
+  return cost.evaluate(m, points, INT64_MAX);
+}
+
+}  // namespace
+
+double heading_apart(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 360.0);
+  return d > 180 ? 360 - d : d;
+}
+
+double wrapped_heading(double h) {
+  h = std::fmod(h, 360.0);
+  if (h > 180) h -= 360;
+  if (h <= -180) h += 360;
+  return h;
+}
+
+CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose, double heading_deg) {
+  std::vector<Eigen::Vector3d> points;
+  control_points(model, pose_vertebrae(model, spine, pose), points, pose.limbs, pose.heading);
+  const Eigen::Vector3d before = trunk_centre(model, points);
+  CvsmPose turned = pose;
+  turned.heading = heading_deg;
+  control_points(model, pose_vertebrae(model, spine, turned), points, turned.limbs, turned.heading);
+  const Eigen::Vector3d shift = before - trunk_centre(model, points);
+  turned.translation.x() += shift.x();
+  turned.translation.z() += shift.z();
+  return turned;
+}
+
+HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                             int budget_each) {
+  HeadingChoice choice;
+  std::vector<Eigen::Vector3d> points;
+  const BodyModel model = build(s, spec, spine);
+  struct Tried {
+    double heading;
+    std::int64_t cost;
+  };
+  std::vector<Tried> tried;
+  SubjectEstimate best = s;
+  std::int64_t best_cost = INT64_MAX;
+  for (double h = 0; h < 360; h += kHeadingProbeDeg) {
+    SubjectEstimate candidate = s;
+    // Headings are kept in (−180, 180].
+    candidate.pose = turned_in_place(model, spine, s.pose, wrapped_heading(h));
+    choice.evaluations += refine_subject(candidate, cost, spec, spine, budget_each);
+    const XorCounts counts = estimate_cost(candidate, cost, spec, spine, points);
+    const std::int64_t c = counts.total();
+    ++choice.evaluations;
+    tried.push_back({candidate.pose.heading, c});
+    if (c < best_cost) {
+      best_cost = c;
+      best = candidate;
+      choice.silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    }
+  }
+  std::int64_t other_side = INT64_MAX;
+  for (const Tried& t : tried)
+    if (heading_apart(t.heading, best.pose.heading) >= 90) other_side = std::min(other_side, t.cost);
+  choice.margin_px = other_side == INT64_MAX ? INT64_MAX : other_side - best_cost;
+  s = best;
+  return choice;
+}
+
+}  // namespace spinewatch::cvsm_detail

@@ -1,0 +1,48 @@
+#pragma once
+// Which way the subject faces (docs/cvsm.md, "Heading"): the full circle
+// tried when the subject model is started and at every (re)acquisition,
+// both views together deciding front from back.
+#include <cstdint>
+
+#include "subject_estimate.hpp"
+
+namespace spinewatch::cvsm_detail {
+
+// Headings tried around the full circle, degrees apart.
+inline constexpr double kHeadingProbeDeg = 30;
+
+// Angular distance of two headings, 0…180°.
+double heading_apart(double a, double b);
+// A heading in (−180, 180].
+double wrapped_heading(double heading_deg);
+
+// The pose turned to `heading_deg` about its hip joints, its translation
+// moved so the trunk's centre line stays where it is (the silhouettes
+// measured it, whichever way the body faces).
+CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose, double heading_deg);
+
+// Two headings whose costs differ by less than this fraction of the
+// silhouettes' pixels are not told apart: the XOR of one standing subject
+// moves by 0.2–0.3 % of them from pair to pair with the same pose (sensor
+// noise, flicker), so 1 % is four times that (docs/cvsm.md, "Heading").
+inline constexpr double kHeadingMarginFraction = 0.01;
+
+struct HeadingChoice {
+  int evaluations = 0;
+  // The best cost of a heading 90° or more from the chosen one minus the
+  // chosen one's, in the cost's pixels: how clearly the views tell this
+  // side from the other.
+  std::int64_t margin_px = 0;
+  std::int64_t silhouette_px = 0;  // both views, in the same pixels
+  bool resolved() const {
+    return static_cast<double>(margin_px) >= kHeadingMarginFraction * static_cast<double>(silhouette_px);
+  }
+};
+
+// The subject's heading from its first pair: every kHeadingProbeDeg, the
+// estimate turned there and its shape refined (`budget_each` evaluations),
+// the best kept in `subject`.
+HeadingChoice choose_heading(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                             int budget_each = 60);
+
+}  // namespace spinewatch::cvsm_detail
