@@ -58,10 +58,10 @@ Eigen::Vector3d on_plane(const CameraModel& cam, const Eigen::Vector2d& pixel, c
 
 constexpr double kCrown = 0.995;  // top of the model's head as a fraction of height (cvsm-generic.toml)
 
-// H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown, twist,
-// heading (the subject may already move while its model is built: a pose
-// left out here would be absorbed by the shape)
-using ShapeParams = std::array<double, 14>;
+// H, width, depth, shoulder, limb, tx, ty, tz, flexion, lateral, pelvis flexion, crown, twist
+// (the subject may already move while its model is built: a pose left out
+// here would be absorbed by the shape)
+using ShapeParams = std::array<double, 13>;
 
 // Breadths are searched in mm at the reference height (scale × H), so a
 // change of height alone keeps every breadth and only stretches lengths:
@@ -98,7 +98,6 @@ void apply_params(SubjectEstimate& s, const ShapeParams& p, double t1) {
   s.pose.lateral = p[9];
   s.pose.pelvis_flexion = p[10];
   s.pose.twist = p[12];
-  s.pose.heading = p[13];
 }
 
 ShapeParams params_of(const SubjectEstimate& s, double t1) {
@@ -106,7 +105,7 @@ ShapeParams params_of(const SubjectEstimate& s, double t1) {
   return {s.shape.height_mm, s.shape.width_scale * per_height, s.shape.depth_scale * per_height,
           s.shape.shoulder_scale * per_height, s.shape.limb_scale * per_height,
           s.pose.translation.x(), s.pose.translation.y() + t1 * s.shape.height_mm, s.pose.translation.z(),
-          s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y, s.pose.twist, s.pose.heading};
+          s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y, s.pose.twist};
 }
 
 std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
@@ -305,9 +304,7 @@ int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   };
   const ShapeParams start = params_of(s, t1);
   const std::int64_t c0 = eval(start, INT64_MAX);
-  // The heading's step is small: the full circle was searched before
-  // (choose_heading); this only follows a subject turning while built.
-  ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8, 3, 3};
+  ShapeParams step{16, 0.06, 0.06, 0.06, 0.08, 12, 8, 12, 3, 3, 3, 8, 3};
   // Standing on the floor with the spine placed for the measured stature,
   // the body does not move up or down: a vertical shift would only trade
   // the template's proportions against the person's and carry the spine

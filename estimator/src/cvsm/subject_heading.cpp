@@ -78,11 +78,26 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
       choice.silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
     }
   }
+  // Between the probes: the heading alone, halving steps from a quarter
+  // of their spacing down to a degree.
+  const BodyModel best_model = build(best, spec, spine);
+  for (double step = kHeadingProbeDeg / 4; step >= 1; step /= 2)
+    for (const double dir : {1.0, -1.0}) {
+      SubjectEstimate trial = best;
+      trial.pose = turned_in_place(best_model, spine, best.pose, wrapped_heading(best.pose.heading + dir * step));
+      const std::int64_t c = estimate_cost(trial, cost, spec, spine, points).total();
+      ++choice.evaluations;
+      if (c < best_cost) {
+        best_cost = c;
+        best = trial;
+        break;
+      }
+    }
   std::int64_t other_side = INT64_MAX;
   for (const Tried& t : tried)
     if (heading_apart(t.heading, best.pose.heading) >= 90) other_side = std::min(other_side, t.cost);
   choice.margin_px = other_side == INT64_MAX ? INT64_MAX : other_side - best_cost;
-  s = best;
+  if (best.pose.heading != s.pose.heading) s.pose = turned_in_place(model, spine, s.pose, best.pose.heading);
   return choice;
 }
 

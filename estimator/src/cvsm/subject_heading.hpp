@@ -40,8 +40,10 @@ struct HeadingChoice {
 };
 
 // The subject's heading from its first pair: every kHeadingProbeDeg, the
-// estimate turned there and its shape refined (`budget_each` evaluations),
-// the best kept in `subject`.
+// estimate turned there and its shape refined (`budget_each` evaluations);
+// the best heading then settled alone to a degree. Only the heading (and
+// the translation that keeps the trunk in place) is kept in `subject`:
+// its shape is refined as before, at that heading.
 HeadingChoice choose_heading(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                              int budget_each = 60);
 

@@ -334,15 +334,21 @@ struct CvsmTracker::Impl {
 
   // The heading per tracked pair: one step either way from where it was
   // (a person turns a few degrees between pairs), kept when it fits
-  // better. Two evaluations.
+  // better by more than the pair-to-pair noise of the cost (0.25 % of the
+  // silhouettes, docs/cvsm.md, "Heading"): a few degrees of heading and of
+  // axial twist draw nearly the same outline, and without that margin the
+  // heading wandered with the twist. Two evaluations.
   static constexpr double kHeadingStepDeg = 2;
+  static constexpr double kHeadingStepGainFraction = 0.0025;
+  std::int64_t silhouette_px = 0;  // both views of the current pair, whole pixels
   int follow_heading(std::int64_t current_cost) {
     const PoseParams a = to_params(pose);
-    std::int64_t best = current_cost;
+    const auto gain = static_cast<std::int64_t>(kHeadingStepGainFraction * static_cast<double>(silhouette_px) / cost->row_step());
+    std::int64_t best = current_cost - gain;
     const double start = pose.heading;
     for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
       CvsmPose trial = pose;
-      trial.heading = start + step;
+      trial.heading = cvsm_detail::wrapped_heading(start + step);
       const std::int64_t c = cost_of(trial, a, best);
       if (c < best) {
         best = c;
@@ -451,6 +457,7 @@ struct CvsmTracker::Impl {
     if (!flag.empty()) r.fit.flag = std::string(flag);
     if (state == TrackingState::Tracking && r.fit.cost > opt.lost_cost) state = TrackingState::Lost;
     r.state = state;
+    if (std::getenv("SW_DEBUG_HEADING")) std::fprintf(stderr, "pose h %.1f f %.1f l %.1f tw %.1f pf %.1f pl %.1f t %.0f %.0f %.0f\n", pose.heading, pose.flexion, pose.lateral, pose.twist, pose.pelvis_flexion, pose.pelvis_lateral, pose.translation.x(), pose.translation.y(), pose.translation.z());
     r.neck = r.vertebrae[kNeckIndex].body_center;
     r.waist = r.vertebrae[kWaistIndex].body_center;
     r.neck_dir = r.vertebrae[kNeckIndex].q * Eigen::Vector3d::UnitY();
@@ -489,6 +496,7 @@ struct CvsmTracker::Impl {
       cost_height = frontal.height();
     }
     cost->set_silhouettes(frontal, lateral);
+    silhouette_px = frontal.count() + lateral.count();
 
     if (phase == Phase::Building) {
       // Building the subject model: only from clean frames.
