@@ -31,9 +31,10 @@ TEST(CvsmHeadingModel, TurnedPoseIsTheUnturnedOneTurnedAboutTheHips) {
     control_points(model, v0, p0, pose.limbs);
     control_points(model, v1, p1, turned.limbs, turned.heading);
     ASSERT_EQ(p0.size(), p1.size());
-    for (std::size_t i = 0; i < p0.size(); ++i)
-      if (model.in_chain[i / kControlPoints])
-        EXPECT_LT((p1[i] - (pivot + R * (p0[i] - pivot))).norm(), 1e-9) << heading << " point " << i;
+    for (std::size_t i = 0; i < p0.size(); ++i) {
+      if (!model.in_chain[i / kControlPoints]) continue;
+      EXPECT_LT((p1[i] - (pivot + R * (p0[i] - pivot))).norm(), 1e-9) << heading << " point " << i;
+    }
   }
 }
 

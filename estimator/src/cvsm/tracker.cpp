@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "coordinate_search.hpp"
 #include "outline_fit.hpp"
@@ -457,7 +455,6 @@ struct CvsmTracker::Impl {
     if (!flag.empty()) r.fit.flag = std::string(flag);
     if (state == TrackingState::Tracking && r.fit.cost > opt.lost_cost) state = TrackingState::Lost;
     r.state = state;
-    if (std::getenv("SW_DEBUG_HEADING")) std::fprintf(stderr, "pose h %.1f f %.1f l %.1f tw %.1f pf %.1f pl %.1f t %.0f %.0f %.0f\n", pose.heading, pose.flexion, pose.lateral, pose.twist, pose.pelvis_flexion, pose.pelvis_lateral, pose.translation.x(), pose.translation.y(), pose.translation.z());
     r.neck = r.vertebrae[kNeckIndex].body_center;
     r.waist = r.vertebrae[kWaistIndex].body_center;
     r.neck_dir = r.vertebrae[kNeckIndex].q * Eigen::Vector3d::UnitY();
@@ -482,7 +479,6 @@ struct CvsmTracker::Impl {
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
     heading_resolved = heading.resolved();
-    if (std::getenv("SW_DEBUG_HEADING")) std::fprintf(stderr, "heading %.1f margin %lld of %lld\n", subject->pose.heading, (long long)heading.margin_px, (long long)heading.silhouette_px);
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
 
