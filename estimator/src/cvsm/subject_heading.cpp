@@ -79,15 +79,16 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
     }
   }
   // Between the probes: the heading alone, halving steps from a quarter
-  // of their spacing down to a degree.
+  // of their spacing down to a degree, each past the cost's noise.
   const BodyModel best_model = build(best, spec, spine);
+  const auto gain = static_cast<std::int64_t>(kHeadingStepGainFraction * static_cast<double>(choice.silhouette_px));
   for (double step = kHeadingProbeDeg / 4; step >= 1; step /= 2)
     for (const double dir : {1.0, -1.0}) {
       SubjectEstimate trial = best;
       trial.pose = turned_in_place(best_model, spine, best.pose, wrapped_heading(best.pose.heading + dir * step));
       const std::int64_t c = estimate_cost(trial, cost, spec, spine, points).total();
       ++choice.evaluations;
-      if (c < best_cost) {
+      if (c < best_cost - gain) {
         best_cost = c;
         best = trial;
         break;

@@ -21,10 +21,14 @@ double wrapped_heading(double heading_deg);
 // measured it, whichever way the body faces).
 CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose, double heading_deg);
 
-// Two headings whose costs differ by less than this fraction of the
-// silhouettes' pixels are not told apart: the XOR of one standing subject
-// moves by 0.2–0.3 % of them from pair to pair with the same pose (sensor
-// noise, flicker), so 1 % is four times that (docs/cvsm.md, "Heading").
+// The XOR of one standing subject moves by 0.2–0.3 % of the silhouettes'
+// pixels from pair to pair with the same pose (sensor noise, flicker):
+// a heading step is taken only when it gains more than that, so the
+// heading does not wander with the noise (or with the axial twist, whose
+// outline a few degrees of heading nearly draw) ...
+inline constexpr double kHeadingStepGainFraction = 0.0025;
+// ... and two headings whose costs differ by less than four times that are
+// not told apart (docs/cvsm.md, "Heading").
 inline constexpr double kHeadingMarginFraction = 0.01;
 
 struct HeadingChoice {
