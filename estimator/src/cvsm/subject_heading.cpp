@@ -81,7 +81,7 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
   // Between the probes: the heading alone, halving steps from a quarter
   // of their spacing down to a degree, each past the cost's noise.
   const BodyModel best_model = build(best, spec, spine);
-  const auto gain = static_cast<std::int64_t>(kHeadingStepGainFraction * static_cast<double>(choice.silhouette_px));
+  const auto gain = static_cast<std::int64_t>(kHeadingMarginFraction * static_cast<double>(choice.silhouette_px));
   for (double step = kHeadingProbeDeg / 4; step >= 1; step /= 2)
     for (const double dir : {1.0, -1.0}) {
       SubjectEstimate trial = best;

@@ -22,13 +22,12 @@ double wrapped_heading(double heading_deg);
 CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose, double heading_deg);
 
 // The XOR of one standing subject moves by 0.2–0.3 % of the silhouettes'
-// pixels from pair to pair with the same pose (sensor noise, flicker):
-// a heading step is taken only when it gains more than that, so the
-// heading does not wander with the noise (or with the axial twist, whose
-// outline a few degrees of heading nearly draw) ...
-inline constexpr double kHeadingStepGainFraction = 0.0025;
-// ... and two headings whose costs differ by less than four times that are
-// not told apart (docs/cvsm.md, "Heading").
+// pixels from pair to pair with the same pose (sensor noise, flicker).
+// Four times that: two headings closer in cost are not told apart, and a
+// step of the heading is taken only when it gains more (docs/cvsm.md,
+// "Heading"). A few degrees of heading draw nearly the outline of a few
+// degrees of axial twist; at a quarter of this the heading followed the
+// twist and the twist's published value went wrong.
 inline constexpr double kHeadingMarginFraction = 0.01;
 
 struct HeadingChoice {

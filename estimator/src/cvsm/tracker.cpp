@@ -332,15 +332,15 @@ struct CvsmTracker::Impl {
 
   // The heading per tracked pair: one step either way from where it was
   // (a person turns a few degrees between pairs), kept when it fits
-  // better by more than the pair-to-pair noise of the cost
-  // (kHeadingStepGainFraction): a few degrees of heading and of axial
+  // better by more than four times the pair-to-pair noise of the cost
+  // (kHeadingMarginFraction): a few degrees of heading and of axial
   // twist draw nearly the same outline, and the heading must not follow
   // the twist. Two evaluations.
   static constexpr double kHeadingStepDeg = 2;
   std::int64_t silhouette_px = 0;  // both views of the current pair, whole pixels
   int follow_heading(std::int64_t current_cost) {
     const PoseParams a = to_params(pose);
-    const auto gain = static_cast<std::int64_t>(cvsm_detail::kHeadingStepGainFraction * static_cast<double>(silhouette_px) / cost->row_step());
+    const auto gain = static_cast<std::int64_t>(cvsm_detail::kHeadingMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
     std::int64_t best = current_cost - gain;
     const double start = pose.heading;
     for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
