@@ -514,10 +514,18 @@ struct CvsmTracker::Impl {
         }
       } else if (!heading_resolved) {
         // The first pairs did not tell front from back: the full circle
-        // again on this one (the subject may have bent or turned since).
-        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
+        // again on this one (the subject may have bent or turned since),
+        // from this pair's own first estimate as on the first pair. (From
+        // the model refined so far, the heading it was refined at starts
+        // ahead of the others and wins by that alone.)
+        cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+        fresh.measured_spine = subject->measured_spine;
+        fresh.shape.posture = subject->shape.posture;
+        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine);
         heading_resolved = heading.resolved();
         candidates += heading.evaluations;
+        if (heading_resolved && fresh.pose.heading != subject->pose.heading)
+          subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, fresh.pose.heading);
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
