@@ -88,7 +88,7 @@ TEST(CvsmHeadingChoice, FindsTheHeadingAndSaysWhenFrontAndBackCostTheSame) {
   // faces one way has a twin facing the other, so front and back cost
   // about the same and the choice must say it cannot tell. (With the
   // generic spine placement, as here: with the measured one the model's
-  // front/back asymmetry under perspective made one side 1.35 % better,
+  // front/back asymmetry under perspective made one side 2.2 % better,
   // beyond the margin — docs/cvsm.md, "Heading", limits.)
   CvsmPose front, back;
   back.heading = 180;

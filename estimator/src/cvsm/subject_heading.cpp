@@ -1,11 +1,7 @@
 #include "subject_heading.hpp"
 
-#include <array>
-
 #include <cmath>
 #include <vector>
-
-#include "coordinate_search.hpp"
 
 namespace spinewatch::cvsm_detail {
 namespace {
@@ -71,24 +67,7 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
     SubjectEstimate candidate = s;
     // Headings are kept in (−180, 180].
     candidate.pose = turned_in_place(model, spine, s.pose, wrapped_heading(h));
-    // Only where it stands is searched (the floor plane), the shape and
-    // the pose held as measured: left free, they let a wrong side explain
-    // what the model lacks (a carried box, clutter in the silhouette) by a
-    // lean or a deeper trunk.
-    std::array<double, 2> at{candidate.pose.translation.x(), candidate.pose.translation.z()};
-    auto placed_cost = [&](const std::array<double, 2>& p, std::int64_t limit) {
-      SubjectEstimate trial = candidate;
-      trial.pose.translation.x() = p[0];
-      trial.pose.translation.z() = p[1];
-      const BodyModel m = build(trial, spec, spine);
-      control_points(m, pose_vertebrae(m, spine, trial.pose), points, {}, trial.pose.heading);
-      return cost.evaluate(m, points, limit).total();
-    };
-    const std::int64_t start_cost = placed_cost(at, INT64_MAX);
-    auto placed = coordinate_descent(at, start_cost, std::array<double, 2>{24, 24}, 4, budget_each, placed_cost);
-    candidate.pose.translation.x() = placed.params[0];
-    candidate.pose.translation.z() = placed.params[1];
-    choice.evaluations += 1 + placed.evaluations;
+    choice.evaluations += refine_subject(candidate, cost, spec, spine, budget_each);
     const XorCounts counts = estimate_cost(candidate, cost, spec, spine, points);
     const std::int64_t c = counts.total();
     ++choice.evaluations;
