@@ -14,6 +14,7 @@
 #include <memory>
 
 #include <fmt/format.h>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
@@ -106,6 +107,23 @@ Result<std::array<std::unique_ptr<V4l2Camera>, 2>> open_cameras(const std::strin
   return cameras;
 }
 
+// --mirror frontal,lateral: which cameras film mirror-imaged, by index.
+std::array<bool, 2> mirrored_cameras(const std::vector<std::string>& names) {
+  std::array<bool, 2> mirrored{};
+  for (const auto& name : names) mirrored[name == kCameraNames[0] ? 0 : 1] = true;
+  return mirrored;
+}
+
+// A mirrored camera's frames as the station will get them once its
+// mirroring is undone: flipped left to right.
+void flip_left_right(std::vector<cv::Mat>& frames) {
+  for (cv::Mat& frame : frames) {
+    cv::Mat flipped;
+    cv::flip(frame, flipped, 1);
+    frame = flipped;
+  }
+}
+
 // Where a refused calibration puts a camera's intrinsics that held:
 // calibration.yaml → calibration.frontal-intrinsics.yaml beside it.
 std::filesystem::path intrinsics_path(const std::string& out, const char* camera) {
@@ -126,6 +144,7 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
     std::string place = "upright";
     double centre_height_mm = 0;
     std::string intrinsics[2];
+    std::vector<std::string> mirror;
     CalibrationLimits limits;
     std::string write_board;
     double dpi = 100;
@@ -179,6 +198,11 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
   cmd->add_option("--frontal-intrinsics", opts->intrinsics[0],
                   "The frontal camera's intrinsics from elsewhere (an OpenCV calibration file); no views needed for it");
   cmd->add_option("--lateral-intrinsics", opts->intrinsics[1], "The lateral camera's intrinsics from elsewhere");
+  cmd->add_option("--mirror", opts->mirror,
+                  "frontal, lateral or frontal,lateral: the cameras whose images are mirrored (left-right flipped, a "
+                  "webcam's mirror setting); their frames are flipped before the board is looked for")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"frontal", "lateral"}));
   cmd->add_option("--max-error", opts->limits.max_error_px, "Refuse above this RMS reprojection error (px)")
       ->check(CLI::Range(0.001, 20.0))
       ->capture_default_str();
@@ -234,6 +258,12 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       }
       if (auto s = save_calibration(opts->out, result.rig); !s) return exit_code.fail(s.error());
       fmt::print("wrote {}\ncheck it with:  spinewatch check --calibration {}\n", opts->out, opts->out);
+      for (std::size_t i = 0; i < 2; ++i)
+        if (frames[i].flipped)
+          fmt::print("the {} camera's calibration is of its images flipped left to right: the station must get "
+                     "them so. Switch the camera's mirroring off (v4l2-ctl -d DEVICE --set-ctrl horizontal_flip=1 "
+                     "on a camera that mirrors; docs/calibration.md, \"A mirrored camera\")\n",
+                     kCameraNames[i]);
     };
     auto usage = [&exit_code](const std::string& message) {
       spdlog::error("calibrate: {}", message);
@@ -273,6 +303,11 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
     if (opts->live && opts->session.views < opts->limits.min_views)
       return usage(fmt::format("--live-views {} is fewer than --min-views {}", opts->session.views,
                                opts->limits.min_views));
+    const std::array<bool, 2> mirrored = mirrored_cameras(opts->mirror);
+    if (opts->live && !opts->mirror.empty())
+      return usage("--mirror flips recorded frames; a live camera that films mirror-imaged flips its own: switch its "
+                   "mirroring off (v4l2-ctl -d DEVICE --set-ctrl horizontal_flip=1, V4L2_CID_HFLIP, on a camera "
+                   "whose images are mirrored) and calibrate --live without --mirror");
     opts->limits.rules.free_aspect = opts->aspect == "free";
     const bool videos = !opts->videos[0].empty() || !opts->videos[1].empty();
     if (videos && (opts->videos[0].empty() || opts->videos[1].empty()))
@@ -365,6 +400,12 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       for (int i = 0; i < 2; ++i) frames[static_cast<std::size_t>(i)].views = std::move(views->grey[static_cast<std::size_t>(i)]);
     }
 
+    for (std::size_t i = 0; i < 2; ++i)
+      if (mirrored[i]) {
+        flip_left_right(frames[i].views);
+        flip_left_right(frames[i].placement);
+        frames[i].flipped = true;
+      }
     finish(*board, frames, size, placement);
   });
 }

@@ -40,7 +40,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     bool known_worker = false;
     bool known_landmarks = false;
     std::string rules = "drawn";
-    int refine_steps = EstimatorOptions{}.refine_steps;
+    int refine_steps = EstimatorOptions{}.cvsm.refine_steps;
   };
   auto opts = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("population",
@@ -89,8 +89,8 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
     sweep.known_worker = opts->known_worker;
     sweep.known_landmarks = opts->known_landmarks;
     sweep.rules = opts->rules == "mean" ? phantom::RuleDraw::Mean : phantom::RuleDraw::Drawn;
-    if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.spine_placement = *mode;
-    sweep.estimator.refine_steps = opts->refine_steps;
+    if (auto mode = parse_spine_placement_mode(opts->placement)) sweep.estimator.subject.spine_placement = *mode;
+    sweep.estimator.cvsm.refine_steps = opts->refine_steps;
 
     std::vector<population::Run> runs;
     const std::uint64_t total = subjects.size() * sweep.scenarios.size();

@@ -61,7 +61,7 @@ void BM_PipelinePairWithViewers(benchmark::State& state) {
     return;
   }
   EstimatorOptions estimator_options;
-  estimator_options.spine_placement = SpinePlacementMode::Generic;  // the petite subject is a generic one
+  estimator_options.subject.spine_placement = SpinePlacementMode::Generic;  // the petite subject is a generic one
   PostureEstimator estimator(options.rig, estimator_options);
 
   boost::asio::io_context io;
@@ -92,7 +92,7 @@ void BM_PipelinePairWithViewers(benchmark::State& state) {
     live.offer(pair, posture, estimator.last_trace());
     return posture;
   };
-  const int first_tracked = options.empty_frames + EstimatorOptions{}.subject_frames;
+  const int first_tracked = options.empty_frames + EstimatorOptions{}.cvsm.subject_frames;
   for (int i = 0; i < first_tracked; ++i) one_pair(static_cast<std::size_t>(i));
   const int n = static_cast<int>(pairs.size()) - first_tracked;
   int phase_k = 0, lost = 0;

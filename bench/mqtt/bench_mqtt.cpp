@@ -93,10 +93,10 @@ class PipelineRig {
       return;
     }
     EstimatorOptions estimator_options;
-    estimator_options.spine_placement = SpinePlacementMode::Generic;
+    estimator_options.subject.spine_placement = SpinePlacementMode::Generic;
     estimator_.emplace(options.rig, estimator_options);
     if (mqtt_on && !start_mqtt()) return;
-    first_tracked_ = options.empty_frames + EstimatorOptions{}.subject_frames;
+    first_tracked_ = options.empty_frames + EstimatorOptions{}.cvsm.subject_frames;
     for (int i = 0; i < first_tracked_; ++i) one_pair(static_cast<std::size_t>(i));
   }
   ~PipelineRig() {

@@ -32,6 +32,9 @@ class CalibrateCli : public ::testing::Test {
     const auto placed = phantom::render_board_views(rig, board, std::vector<phantom::BoardPose>(4, plan.placement),
                                                     {true, true}, 1, 2.0, 1000);
     ASSERT_TRUE(phantom::write_board_recording(placed, dir_->path() / "placement"));
+    // The same session from a lateral camera that films mirror-imaged.
+    ASSERT_TRUE(phantom::write_board_recording(lateral_mirrored(views), dir_->path() / "views_mirrored"));
+    ASSERT_TRUE(phantom::write_board_recording(lateral_mirrored(placed), dir_->path() / "placement_mirrored"));
     result_ = new test::CommandResult(test::run_cli(args() + " --out " + (dir_->path() / "calibration.yaml").string()));
   }
   static void TearDownTestSuite() {
@@ -42,6 +45,14 @@ class CalibrateCli : public ::testing::Test {
   // postures are 3–8 mm from the phantom's truth there), so that the
   // replay comparison measures the calibration, not the fit's own error.
   static CameraRig truth() { return CameraRig::default_rig(); }
+  static phantom::BoardFrames lateral_mirrored(phantom::BoardFrames frames) {
+    for (cv::Mat& frame : frames.grey[1]) {
+      cv::Mat flipped;
+      cv::flip(frame, flipped, 1);
+      frame = flipped;
+    }
+    return frames;
+  }
   static std::string args() {
     return "calibrate --views " + (dir_->path() / "views").string() + " --placement " +
            (dir_->path() / "placement").string() + " --board-centre-height 1100";
@@ -202,6 +213,69 @@ TEST_F(CalibrateCli, AWrongSquareSizeIsRefusedAgainstTheMeasuredBaseline) {
   EXPECT_NE(r.output.find("mm apart by the calibration but 3500 mm by --baseline-mm"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("not 150 mm as given: measure a square and give --square-mm"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "cal.yaml"));
+}
+
+// A lateral camera that films mirror-imaged: refused with the fix named;
+// with --mirror lateral its frames are flipped back before detection, so
+// the calibration is the one of the same session filmed unmirrored, byte
+// for byte.
+TEST_F(CalibrateCli, AMirroredCameraIsNamedAndCalibratedWithMirror) {
+  ASSERT_EQ(result_->exit_code, 0) << result_->output;
+  test::TempDir dir;
+  const std::string mirrored = "calibrate --views " + (dir_->path() / "views_mirrored").string() + " --placement " +
+                               (dir_->path() / "placement_mirrored").string() + " --board-centre-height 1100";
+  // The refusal with the frontal camera's intrinsics given: only the
+  // lateral camera's views are looked at.
+  CameraModel frontal = truth().frontal;
+  frontal.image_width = 320;
+  frontal.image_height = 240;
+  ASSERT_TRUE(save_intrinsics(dir / "frontal.yaml", frontal));
+  auto refused = test::run_cli(mirrored + " --frontal-intrinsics " + (dir / "frontal.yaml").string() + " --out " +
+                               (dir / "refused.yaml").string());
+  std::printf("%s", refused.output.c_str());
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("refused: lateral camera: its images are mirrored (left–right flipped, a webcam's "
+                                "mirror or selfie setting): the board is found in "),
+            std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("give --mirror lateral to calibrate its images flipped"), std::string::npos)
+      << refused.output;
+  EXPECT_EQ(refused.output.find("frontal camera: its images"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused.yaml"));
+
+  auto fixed = test::run_cli(mirrored + " --mirror lateral --out " + (dir / "cal.yaml").string());
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
+  EXPECT_NE(fixed.output.find("the lateral camera's calibration is of its images flipped left to right"),
+            std::string::npos)
+      << fixed.output;
+  EXPECT_EQ(test::read_file(dir / "cal.yaml"), test::read_file(dir_->path() / "calibration.yaml"));
+}
+
+// --mirror on a camera that does not mirror: named, with the fix. (The
+// lateral camera's intrinsics are given, so that only the frontal's views
+// are looked at.)
+TEST_F(CalibrateCli, MirrorOnACameraThatDoesNotMirrorIsNamed) {
+  test::TempDir dir;
+  CameraModel lateral = truth().lateral;
+  lateral.image_width = 320;
+  lateral.image_height = 240;
+  ASSERT_TRUE(save_intrinsics(dir / "lateral.yaml", lateral));
+  auto r = test::run_cli(args() + " --mirror frontal --lateral-intrinsics " + (dir / "lateral.yaml").string() +
+                         " --out " + (dir / "cal.yaml").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("refused: frontal camera: its images are not mirrored: the board is found in "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("flipped left to right by --mirror; leave frontal out of --mirror"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "cal.yaml"));
+  auto live = test::run_cli("calibrate --live --mirror lateral --board-centre-height 600");
+  EXPECT_EQ(live.exit_code, 2) << live.output;
+  EXPECT_NE(live.output.find("--mirror flips recorded frames; a live camera that films mirror-imaged flips its own"),
+            std::string::npos)
+      << live.output;
+  auto bad = test::run_cli(args() + " --mirror side");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
 }
 
 // Views from video files: both or neither, and a file that is not a video.

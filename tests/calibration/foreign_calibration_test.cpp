@@ -254,5 +254,47 @@ TEST(ForeignCalibration, SharedCaliscopeSessionsAreConsistent) {
   }
 }
 
+// A camera whose images are mirrored (caliscope's 4_cam_recording cam_1,
+// calibrated on its images as filmed; docs/calibration.md, "A mirrored
+// camera"): its images flipped left to right are exactly those of the
+// camera with cx' = w − 1 − cx, p2' = −p2 and the first rows of R and t
+// negated — a rotation with determinant −1, which the station's
+// calibration file refuses, so such a camera is calibrated again from its
+// flipped views (calibrate --mirror) rather than converted.
+TEST(ForeignCalibration, AMirroredCamerasFlippedImagesNeedAnImproperRotation) {
+  CameraModel filmed;
+  filmed.camera_matrix << 703.958, 0, 626.005, 0, 706.235, 348.864, 0, 0, 1;
+  filmed.dist_coeffs = {0.192148, -0.256426, 0.002802, -0.005232, 0.115382};
+  filmed.R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized()).toRotationMatrix();
+  filmed.t = Eigen::Vector3d(40, -120, 900);
+  filmed.image_width = 1280;
+  filmed.image_height = 720;
+  CameraModel flipped = filmed;
+  flipped.camera_matrix(0, 2) = filmed.image_width - 1 - filmed.camera_matrix(0, 2);
+  flipped.dist_coeffs[3] = -filmed.dist_coeffs[3];
+  const Eigen::Matrix3d S = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  flipped.R = S * filmed.R;
+  flipped.t = S * filmed.t;
+  int compared = 0;
+  for (double x = -300; x <= 300; x += 150)
+    for (double y = -200; y <= 200; y += 100)
+      for (double z = -200; z <= 400; z += 200) {
+        const auto a = filmed.project({x, y, z}), b = flipped.project({x, y, z});
+        ASSERT_TRUE(a && b);
+        EXPECT_NEAR(b->x(), filmed.image_width - 1 - a->x(), 1e-6);
+        EXPECT_NEAR(b->y(), a->y(), 1e-6);
+        ++compared;
+      }
+  EXPECT_EQ(compared, 100);
+  EXPECT_NEAR(flipped.R.determinant(), -1.0, 1e-9);
+  test::TempDir dir;
+  const CameraRig rig{CameraRig::default_rig().frontal, flipped};
+  ASSERT_TRUE(save_calibration(dir / "flipped.yaml", rig));
+  auto loaded = load_calibration(dir / "flipped.yaml");
+  ASSERT_FALSE(loaded);
+  EXPECT_TRUE(contains(loaded.error().message, "not a rotation matrix")) << loaded.error().message;
+  EXPECT_TRUE(contains(loaded.error().message, "det = -1")) << loaded.error().message;
+}
+
 }  // namespace
 }  // namespace spinewatch

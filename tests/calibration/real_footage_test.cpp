@@ -161,16 +161,22 @@ TEST_F(RealFootage, InvertedBoardIsFoundAsFilmed) {
 }
 
 // As filmed, with the intrinsics this footage gives: the issue asks 1.5°
-// and 20 mm of caliscope's; this footage's views leave the lateral camera's
-// intrinsics loose (fx ± 32 px, cy ± 50 px at 1 σ; two ninths of the image
-// covered), and its relative pose follows them: measured 3.8° and 61 mm
-// (docs/calibration.md, "The shared caliscope session"). Held to what is
-// measured, with a margin.
+// and 20 mm of caliscope's. The baseline holds (measured +13.7 mm); the
+// rotation does not (measured 2.36°): it follows the two cameras'
+// principal points, which this footage gives 33 and 22 px (frontal) and
+// 29 and 11 px (lateral) from caliscope's — caliscope's frontal centre is
+// 2.3 σ and 2.8 σ from this footage's (2.3 σ and 2.9 σ from OpenCV's own
+// calibration of it) — and only with both moved to caliscope's does the
+// rotation come within 1.5° (docs/calibration.md, "The shared caliscope
+// session"). Held to the issue's baseline and to the measured rotation
+// with a margin: a view of the moving board left out of the lateral
+// camera's few (as a fixed 0.3 px floor did) puts it at 3.5°.
 TEST_F(RealFootage, RelativePoseAsFilmed) {
   ASSERT_EQ(own_->exit_code, 0) << own_->output;
+  EXPECT_EQ(own_->output.find("(left out"), std::string::npos) << own_->output;
   auto rig = load_calibration(dir_->path() / "own.yaml");
   ASSERT_TRUE(rig) << own_->output;
-  expect_relative_pose_near(*rig, *caliscope_, 5.0, 80);
+  expect_relative_pose_near(*rig, *caliscope_, 3.0, 20);
 }
 
 TEST_F(RealFootage, IntrinsicsAreWithinTwoSigmaOfOpenCVsOwn) {

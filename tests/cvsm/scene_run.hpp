@@ -29,7 +29,7 @@ struct SceneRunOptions {
   // The phantom's named subjects carry the generic spine (phantom_run.hpp).
   EstimatorOptions estimator = [] {
     EstimatorOptions o;
-    o.spine_placement = SpinePlacementMode::Generic;
+    o.subject.spine_placement = SpinePlacementMode::Generic;
     return o;
   }();
 };

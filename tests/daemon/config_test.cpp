@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <regex>
 #include <set>
 #include <tuple>
@@ -211,10 +212,10 @@ namespace {
 // subject.spine_placement reaches the estimator (its effect on the
 // postures: tests/population, PopulationSweep.MeasuredPlacementOnTestSubjectsBeatsTheGenericSpine).
 TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).spine_placement, SpinePlacementMode::Measured);
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).subject.spine_placement, SpinePlacementMode::Measured);
   auto generic = parse_config("[subject]\nspine_placement = \"generic\"\n", "s.toml");
   ASSERT_TRUE(generic) << generic.error().message;
-  EXPECT_EQ(estimator_options(*generic).spine_placement, SpinePlacementMode::Generic);
+  EXPECT_EQ(estimator_options(*generic).subject.spine_placement, SpinePlacementMode::Generic);
   auto bad = parse_config("[subject]\nspine_placement = \"ansur\"\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: subject.spine_placement: \"ansur\" is not one of: measured, generic");
@@ -224,10 +225,10 @@ TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
 // the postures: tests/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
 // through replay --config: tests/calibration, CalibrateCli.ReplayWith…).
 TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).refine_steps, 0);
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.refine_steps, 0);
   auto on = parse_config("[cvsm]\nrefine_steps = 2\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
-  EXPECT_EQ(estimator_options(*on).refine_steps, 2);
+  EXPECT_EQ(estimator_options(*on).cvsm.refine_steps, 2);
   auto bad = parse_config("[cvsm]\nrefine_steps = 9\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.refine_steps: 9 is out of range [0, 4]");
@@ -240,10 +241,10 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
 // cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
 // fit: tests/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
 TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).limbs, LimbMode::Fixed);
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Fixed);
   auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
-  EXPECT_EQ(estimator_options(*on).limbs, LimbMode::Articulated);
+  EXPECT_EQ(estimator_options(*on).cvsm.limbs, LimbMode::Articulated);
   auto bad = parse_config("[cvsm]\nlimbs = \"free\"\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated");
@@ -251,13 +252,13 @@ TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
 
 TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
   const EstimatorOptions unknown = estimator_options(*parse_config("", "s.toml"));
-  EXPECT_EQ(unknown.worker, KnownWorker{}) << "by default the worker is not known";
+  EXPECT_EQ(known_worker(unknown.subject), KnownWorker{}) << "by default the worker is not known";
   auto known = parse_config("[subject]\nstature_mm = 1712\nmass_kg = 68.5\n", "s.toml");
   ASSERT_TRUE(known) << known.error().message;
-  EXPECT_EQ(estimator_options(*known).worker, (KnownWorker{1712.0, 68.5}));
+  EXPECT_EQ(known_worker(estimator_options(*known).subject), (KnownWorker{1712.0, 68.5}));
   auto zero = parse_config("[subject]\nstature_mm = 0\nmass_kg = 80\n", "s.toml");
   ASSERT_TRUE(zero) << zero.error().message;
-  EXPECT_EQ(estimator_options(*zero).worker, (KnownWorker{std::nullopt, 80.0}));
+  EXPECT_EQ(known_worker(estimator_options(*zero).subject), (KnownWorker{std::nullopt, 80.0}));
   auto bad = parse_config("[subject]\nstature_mm = 500\n", "s.toml");
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message, "s.toml:2: subject.stature_mm: 500 is out of range [1000, 2300] (0 = not known)");
@@ -273,7 +274,7 @@ TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
 TEST(Config, AKnownWorkersLandmarksReachTheEstimatorCheckedTogether) {
   auto known = parse_config("[subject]\nstature_mm = 1755\nc7_height_mm = 1500\niliac_crest_height_mm = 1040\n", "s.toml");
   ASSERT_TRUE(known) << known.error().message;
-  EXPECT_EQ(estimator_options(*known).worker, (KnownWorker{1755.0, std::nullopt, 1500.0, 1040.0}));
+  EXPECT_EQ(known_worker(estimator_options(*known).subject), (KnownWorker{1755.0, std::nullopt, 1500.0, 1040.0}));
   auto range = parse_config("[subject]\niliac_crest_height_mm = 300\n", "s.toml");
   ASSERT_FALSE(range);
   EXPECT_EQ(range.error().message,
@@ -318,6 +319,151 @@ TEST(Config, HttpKeysAreReadAndChecked) {
   EXPECT_EQ(parse_config("[http]\ncamera_pixels = \"yes\"\n", "h.toml").error().message,
             "h.toml:2: http.camera_pixels: expected true or false, got string");
   EXPECT_EQ(parse_config("[http]\nport = 8080\n", "h.toml").error().message, "h.toml:2: http.port: unknown key");
+}
+
+}  // namespace
+}  // namespace spinewatch
+
+namespace spinewatch {
+namespace {
+
+// The annotated configuration is checked against the key tables: every key
+// listed, nothing else, each at its table's default.
+TEST(ConfigKeys, TheAnnotatedFileListsEveryKeyAtItsTablesDefault) {
+  const auto path = test::source_path("config/spinewatch.toml");
+  const auto problems = annotated_config_problems(test::read_file(path), "spinewatch.toml");
+  EXPECT_TRUE(problems.empty()) << fmt::format("{}", fmt::join(problems, "\n"));
+}
+
+// `text` with its line `old_line` replaced by `line` ("" removes it).
+std::string with_line(const std::string& text, const std::string& old_line, const std::string& line) {
+  const auto at = text.find("\n" + old_line + "\n");
+  EXPECT_NE(at, std::string::npos) << old_line;
+  if (at == std::string::npos) return text;
+  return text.substr(0, at + 1) + (line.empty() ? "" : line + "\n") + text.substr(at + old_line.size() + 2);
+}
+
+// The 1-based number of `line` in `text`.
+std::size_t line_of(const std::string& text, const std::string& line) {
+  const auto at = text.find("\n" + line + "\n");
+  return static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at) + 1, '\n')) + 1;
+}
+
+// The check fails, naming the key (and the line), when the file omits a
+// key, documents one that does not exist, or gives another default.
+TEST(ConfigKeys, TheAnnotatedFileCheckFindsAMissingAnUnknownAndAWrongDefault) {
+  const std::string text = test::read_file(test::source_path("config/spinewatch.toml"));
+  EXPECT_EQ(annotated_config_problems(with_line(text, "threshold = 28", ""), "a.toml"),
+            (std::vector<std::string>{
+                "a.toml: silhouette.threshold: not listed; the file lists every key with its default (28)"}));
+  const std::string extra = with_line(text, "threshold = 28", "threshold = 28\nthreshhold = 28");
+  EXPECT_EQ(annotated_config_problems(extra, "a.toml"),
+            (std::vector<std::string>{fmt::format("a.toml:{}: silhouette.threshhold: unknown key; did you mean "
+                                                  "silhouette.threshold?",
+                                                  line_of(text, "threshold = 28") + 1)}));
+  const std::string other = with_line(text, "lost_cost = 0.35", "lost_cost = 0.4");
+  EXPECT_EQ(annotated_config_problems(other, "a.toml"),
+            (std::vector<std::string>{fmt::format("a.toml:{}: cvsm.lost_cost: 0.4 here, but the key's default is 0.35",
+                                                  line_of(text, "lost_cost = 0.35"))}));
+  const std::string mode = with_line(text, "limbs = \"fixed\"", "limbs = \"articulated\"");
+  EXPECT_EQ(annotated_config_problems(mode, "a.toml"),
+            (std::vector<std::string>{fmt::format(
+                "a.toml:{}: cvsm.limbs: \"articulated\" here, but the key's default is \"fixed\"",
+                line_of(text, "limbs = \"fixed\""))}));
+}
+
+// Each entry reads and writes its own member: a value other than the
+// default, set through the key, changes that key and no other.
+TEST(ConfigKeys, EachKeySetsItsOwnMember) {
+  const Config defaults;
+  for (const OptionKey<Config>& key : config_table()) {
+    const OptionValue fallback = key.default_value();
+    OptionValue other;
+    switch (key.type) {
+      case OptionType::Integer:
+        other = std::get<long long>(fallback) == key.integer_range.first ? key.integer_range.second
+                                                                          : key.integer_range.first;
+        break;
+      case OptionType::Number:
+        other = std::get<double>(fallback) == key.number_range.first ? key.number_range.second : key.number_range.first;
+        break;
+      case OptionType::Flag: other = !std::get<bool>(fallback); break;
+      case OptionType::Text:
+      case OptionType::Mode:
+        other = key.names.empty() ? std::string("x")
+                                  : std::get<std::string>(fallback) == key.names.front() ? key.names.back()
+                                                                                          : key.names.front();
+        break;
+    }
+    Config c;
+    key.set(c, other);
+    EXPECT_EQ(key.get(c), other) << key.name;
+    EXPECT_EQ(changed_keys(defaults, c), std::vector<std::string>{key.name}) << key.name;
+  }
+}
+
+// Every default is a value the loader would take: within the key's range,
+// one of its modes.
+TEST(ConfigKeys, EveryDefaultIsAValueTheLoaderTakes) {
+  for (const OptionKey<Config>& key : config_table()) {
+    const OptionValue v = key.default_value();
+    switch (key.type) {
+      case OptionType::Integer: {
+        const long long i = std::get<long long>(v);
+        EXPECT_TRUE(i >= key.integer_range.first && i <= key.integer_range.second) << key.name;
+        break;
+      }
+      case OptionType::Number: {
+        const double d = std::get<double>(v);
+        EXPECT_TRUE((key.zero_is_unknown && d == 0) || (d >= key.number_range.first && d <= key.number_range.second))
+            << key.name;
+        break;
+      }
+      case OptionType::Flag: break;
+      case OptionType::Text:
+      case OptionType::Mode: {
+        const std::string& s = std::get<std::string>(v);
+        if (!key.names.empty()) {
+          EXPECT_NE(std::find(key.names.begin(), key.names.end(), s), key.names.end()) << key.name;
+        }
+        EXPECT_EQ(parse_config(fmt::format("[{}]\n{} = {}\n", key.name.substr(0, key.name.find('.')),
+                                           key.name.substr(key.name.find('.') + 1), toml_text(v)),
+                               "d.toml")
+                      .ok(),
+                  true)
+            << key.name;
+        break;
+      }
+    }
+  }
+}
+
+// What a reload applies without a restart is said once, in the tables
+// (docs/daemon.md, "Signals").
+TEST(ConfigKeys, TheKeysAReloadAppliesAreTheTablesLiveOnes) {
+  std::vector<std::string> live;
+  for (const std::string& key : config_keys())
+    if (reloadable_key(key)) live.push_back(key);
+  EXPECT_EQ(live, (std::vector<std::string>{"station.name", "subject.stature_mm", "subject.mass_kg",
+                                            "subject.c7_height_mm", "subject.iliac_crest_height_mm", "alerts.silent",
+                                            "log.level", "log.status_interval_s"}));
+  EXPECT_FALSE(reloadable_key("no.such_key"));
+}
+
+// The estimator runs with the configuration's own sections: nothing is
+// copied key by key on the way.
+TEST(ConfigKeys, TheEstimatorTakesItsSectionsWhole) {
+  auto c = parse_config("[silhouette]\nthreshold = 40\n[cvsm]\nlost_cost = 0.5\n[spine]\nsubsteps = 8\n"
+                        "[subject]\nheight_mm = 1600\n[cameras]\nfps = 15\n",
+                        "e.toml");
+  ASSERT_TRUE(c) << c.error().message;
+  const EstimatorOptions o = estimator_options(*c);
+  EXPECT_EQ(o.silhouette, c->silhouette);
+  EXPECT_EQ(o.cvsm, c->cvsm);
+  EXPECT_EQ(o.spine, c->spine);
+  EXPECT_EQ(o.subject, c->subject);
+  EXPECT_EQ(o.fps, 15.0);
+  EXPECT_EQ(o.silhouette.threshold, 40);
 }
 
 }  // namespace

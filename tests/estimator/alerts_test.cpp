@@ -161,7 +161,7 @@ TEST(AlertPhantom, FiresAndClearsOnTheFlexionScenarioAsConfigured) {
   auto sequence = phantom::PhantomSequence::create(po);
   ASSERT_TRUE(sequence);
   EstimatorOptions eo;
-  eo.spine_placement = SpinePlacementMode::Generic;
+  eo.subject.spine_placement = SpinePlacementMode::Generic;
   PostureEstimator estimator(po.rig, eo);
   AlertRule r;
   r.name = "bent";

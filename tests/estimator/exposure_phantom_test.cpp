@@ -64,7 +64,7 @@ TEST(ExposurePhantom, ZoneTimesOfATwoMinuteShiftMatchTheTrueSpineWithinOneFrame)
   auto sequence = phantom::PhantomSequence::create(po);
   ASSERT_TRUE(sequence) << sequence.error().message;
   EstimatorOptions eo;
-  eo.spine_placement = SpinePlacementMode::Generic;  // the phantom's generic subject
+  eo.subject.spine_placement = SpinePlacementMode::Generic;  // the phantom's generic subject
   PostureEstimator estimator(po.rig, eo);
   ExposureAccumulator accumulator;  // 60 s intervals
 

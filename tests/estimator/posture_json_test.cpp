@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -58,6 +59,33 @@ TEST(PostureJson, DecodeRejectsBadLinesWithWhere) {
             "g:6: neck: expected an array of 3 numbers");
   EXPECT_EQ(decode_posture(R"({"t_ns": 0, "state": "lost"})", "g:7").error().message,
             "g:7: seq: missing or not a non-negative integer");
+}
+
+TEST(PostureJson, StreamSkipsHelloAndBlankLinesAndNumbersTheRest) {
+  Posture second = tracking_posture();
+  second.seq = 18;
+  std::istringstream in("{\"class\":\"hello\",\"v\":1}\n" + encode_posture(tracking_posture()) + "\n\n  \r\n" +
+                        encode_posture(second) + "\n");
+  auto lines = decode_posture_stream(in, "s.ndjson");
+  ASSERT_TRUE(lines.ok()) << lines.error().message;
+  ASSERT_EQ(lines->size(), 2u);
+  EXPECT_EQ((*lines)[0].line, 2u);
+  EXPECT_EQ((*lines)[0].posture.seq, 17u);
+  EXPECT_EQ((*lines)[1].line, 5u);
+  EXPECT_EQ((*lines)[1].posture.seq, 18u);
+}
+
+TEST(PostureJson, StreamNamesTheLineThatDoesNotRead) {
+  std::istringstream broken(encode_posture(tracking_posture()) + "\n{not json\n");
+  auto bad = decode_posture_stream(broken, "s.ndjson");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message, "s.ndjson:2: not valid JSON");
+
+  std::istringstream summaries("{\"class\":\"summary\",\"v\":1}\n");
+  auto wrong_file = decode_posture_stream(summaries, "s.ndjson");
+  ASSERT_FALSE(wrong_file.ok());
+  EXPECT_NE(wrong_file.error().message.find("s.ndjson:1: an exposure summary line"), std::string::npos)
+      << wrong_file.error().message;
 }
 
 TEST(PostureJson, OutputValidatesAgainstSchema) {

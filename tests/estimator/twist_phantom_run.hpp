@@ -47,7 +47,7 @@ inline Result<std::vector<TwistFrame>> run_twist_phantom(const std::string& scen
   auto sequence = phantom::PhantomSequence::create(po);
   if (!sequence.ok()) return sequence.error();
   EstimatorOptions eo;
-  eo.spine_placement = SpinePlacementMode::Generic;  // the phantom's subjects carry the generic spine
+  eo.subject.spine_placement = SpinePlacementMode::Generic;  // the phantom's subjects carry the generic spine
   PostureEstimator estimator(po.rig, eo);
   std::vector<TwistFrame> out;
   std::optional<double> neutral;

@@ -66,7 +66,7 @@ TEST(KnownWorker, GivenStatureAndMassAreUsedAndSaidToBeGiven) {
   const auto& row = subject(kMan);
   const auto seq = sequence(row, "seated_flexion", 30);
   EstimatorOptions o;
-  o.worker = {1700.0, 95.0};
+  set_known_worker(o.subject, {1700.0, 95.0});
   PostureEstimator estimator(seq.options().rig, o);
   const auto postures = run(seq, estimator);
   for (const Posture& p : postures) {
@@ -108,7 +108,7 @@ TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
   const auto seq = sequence(row, "flexion", 30);
   auto run_with = [&](std::optional<double> stature) {
     EstimatorOptions o;
-    o.worker.stature_mm = stature;
+    o.subject.stature_mm = stature.value_or(0);
     PostureEstimator estimator(seq.options().rig, o);
     return run(seq, estimator);
   };
@@ -154,7 +154,7 @@ TEST(KnownWorker, TheGivenMassDrivesTheLoads) {
   const auto seq = sequence(row, "flexion", 30);
   auto load_with = [&](double mass) {
     EstimatorOptions o;
-    o.worker.mass_kg = mass;
+    o.subject.mass_kg = mass;
     PostureEstimator estimator(seq.options().rig, o);
     return l5_load(last_tracking(run(seq, estimator)));
   };
@@ -199,7 +199,7 @@ TEST(KnownWorker, MeasuredLandmarksPlaceTheSpine) {
   const auto seq = sequence(row, "flexion", 30);
   auto first_tracking_l5 = [&](const KnownWorker& w) {
     EstimatorOptions o;
-    o.worker = w;
+    set_known_worker(o.subject, w);
     PostureEstimator estimator(seq.options().rig, o);
     const auto postures = run(seq, estimator);
     for (std::size_t i = 0; i < postures.size(); ++i)
@@ -227,7 +227,7 @@ TEST(KnownWorker, LandmarksOfAContradictedStatureAreSetAsideWithIt) {
   const auto& row = subject(kMan);
   const auto seq = sequence(row, "flexion", 30);
   EstimatorOptions o;
-  o.worker = {row.stature_mm - 250, std::nullopt, row.cervicale_height_mm - 250, row.iliocristale_height_mm - 150};
+  set_known_worker(o.subject, {row.stature_mm - 250, std::nullopt, row.cervicale_height_mm - 250, row.iliocristale_height_mm - 150});
   PostureEstimator estimator(seq.options().rig, o);
   const auto postures = run(seq, estimator);
   const Posture& p = last_tracking(postures);

@@ -40,7 +40,7 @@ std::vector<anthropometry::AnsurSubject> subset() {
 std::vector<Run> sweep(SpinePlacementMode placement) {
   SweepOptions o;
   o.scenarios = {"flexion", "seated_flexion"};
-  o.estimator.spine_placement = placement;
+  o.estimator.subject.spine_placement = placement;
   std::vector<Run> runs;
   for (const auto& s : subset())
     for (const auto& scenario : o.scenarios) {

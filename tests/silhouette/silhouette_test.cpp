@@ -171,6 +171,32 @@ TEST(Silhouette, FlagsNoPersonTwoBlobsAndOcclusion) {
   EXPECT_EQ(flag_of(r3.status), "occluded");
 }
 
+// A backdrop with a dark, textured band across the trunk's rows (a dark
+// shirt or cupboard in a photographed room): the person's trunk matches it
+// and the silhouette falls apart into the part above the band and the part
+// below. Both are the subject; a second person beside is still two_blobs.
+TEST(Silhouette, KeepsTheSubjectSplitByAMatchingBackdropAsOnePerson) {
+  std::mt19937 rng(7);
+  cv::Mat bg = background_image();
+  for (int y = 95; y < 136; ++y)
+    for (int x = 0; x < kW; ++x) bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(55 + (x * 5 + y * 3) % 11);
+  SilhouetteExtractor ex = learned(bg, rng);
+
+  const cv::Mat person = person_mask();
+  const auto r = ex.extract(view_of(compose(bg, person, 1.0, 2.0, rng)));
+  EXPECT_EQ(r.status, SilhouetteStatus::Person);
+  EXPECT_EQ(r.blobs, 2);                          // the band did split the subject
+  EXPECT_TRUE(r.mask.get(160, 40));               // the head, above the band
+  EXPECT_TRUE(r.mask.get(147, 200));              // a leg, below it
+  EXPECT_FALSE(r.mask.get(160, 115));             // the trunk inside the band is lost to it
+  EXPECT_EQ(r.pixels, r.mask.count());
+
+  const auto two = ex.extract(view_of(compose(bg, person_mask(-70) | person_mask(70), 1.0, 2.0, rng)));
+  EXPECT_EQ(two.status, SilhouetteStatus::TwoBlobs);
+  EXPECT_EQ(two.blobs, 4);
+  EXPECT_GT(two.second_blob_px, 1000);
+}
+
 TEST(Silhouette, PlainThresholdAgainstUniformBackdrop) {
   std::mt19937 rng(6);
   SilhouetteOptions opt;

@@ -559,7 +559,7 @@ struct Daemon::Impl {
       config.subject.mass_kg = fresh->subject.mass_kg;
       config.subject.c7_height_mm = fresh->subject.c7_height_mm;
       config.subject.iliac_crest_height_mm = fresh->subject.iliac_crest_height_mm;
-      set_worker(estimator_options(config).worker, "the reloaded configuration");
+      set_worker(known_worker(config.subject), "the reloaded configuration");
     }
     if (applied.empty() && need_restart.empty()) spdlog::info("reload: {}: nothing changed", config_path.string());
     if (!applied.empty()) spdlog::info("reload: applied {}", fmt::join(applied, ", "));

@@ -3,7 +3,6 @@
 #include <fstream>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "spinewatch/estimator/posture_json.hpp"
 
@@ -20,19 +19,16 @@ Result<std::optional<GroundTruthScore>> GroundTruthScore::open(const std::filesy
   if (!std::filesystem::exists(path, ec)) return std::optional<GroundTruthScore>{};
   std::ifstream in(path);
   if (!in) return Error{fmt::format("{}: cannot be read", path.string())};
+  auto lines = decode_posture_stream(in, path.string());
+  if (!lines) return lines.error();
   std::vector<std::optional<Posture>> truth;
-  std::string line;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::string where = fmt::format("{}:{}", path.string(), number);
-    const auto json = nlohmann::json::parse(line, nullptr, /*allow_exceptions=*/false);
-    if (json.is_discarded()) return Error{fmt::format("{}: not valid JSON", where)};
-    auto posture = posture_from_json(json, where);
-    if (!posture) return posture.error();
+  for (NumberedPosture& line : *lines) {
+    Posture& posture = line.posture;
     // A recording of a few minutes at most: a seq beyond a million is not a pair number.
-    if (posture->seq > 1'000'000) return Error{fmt::format("{}: seq {} is not a pair of a recording", where, posture->seq)};
-    if (truth.size() <= posture->seq) truth.resize(posture->seq + 1);
-    if (posture->state != TrackingState::Lost && posture->vertebrae) truth[posture->seq] = std::move(posture).value();
+    if (posture.seq > 1'000'000)
+      return Error{fmt::format("{}:{}: seq {} is not a pair of a recording", path.string(), line.line, posture.seq)};
+    if (truth.size() <= posture.seq) truth.resize(posture.seq + 1);
+    if (posture.state != TrackingState::Lost && posture.vertebrae) truth[posture.seq] = std::move(posture);
   }
   return std::optional<GroundTruthScore>(GroundTruthScore(std::move(truth)));
 }

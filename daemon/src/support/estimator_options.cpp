@@ -8,26 +8,11 @@ namespace spinewatch {
 
 EstimatorOptions estimator_options(const Config& c) {
   EstimatorOptions o;
-  o.background = c.silhouette.background;
-  o.learn_frames = c.silhouette.learn_frames;
-  o.threshold = c.silhouette.threshold;
-  o.min_blob_px = c.silhouette.min_blob_px;
-  o.chroma_threshold = c.silhouette.chroma_threshold;
-  o.shadow_ratio = c.silhouette.shadow_ratio;
-  o.adapt_s = c.silhouette.adapt_s;
-  o.adapt_margin_px = c.silhouette.adapt_margin_px;
-  o.relearn_empty_s = c.silhouette.relearn_empty_s;
-  o.bootstrap = c.silhouette.bootstrap;
+  o.silhouette = c.silhouette;
+  o.cvsm = c.cvsm;
+  o.spine = c.spine;
+  o.subject = c.subject;
   o.fps = c.cameras.fps;
-  o.subject_frames = c.cvsm.subject_frames;
-  o.lost_cost = c.cvsm.lost_cost;
-  o.refine_steps = c.cvsm.refine_steps;
-  o.limbs = c.cvsm.limbs;
-  o.substeps = c.spine.substeps;
-  o.voxel_mm = c.spine.voxel_mm;
-  o.worker = known_worker(c.subject);
-  o.height_mm = c.subject.height_mm;
-  o.spine_placement = c.subject.spine_placement;
   return o;
 }
 

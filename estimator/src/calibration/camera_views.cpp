@@ -12,6 +12,10 @@
 namespace spinewatch::calibration_detail {
 namespace {
 
+// A view is left out of the intrinsics when its error is over 3× the
+// median view's and over this many pixels at 320 pixels wide.
+constexpr double kLeftOutFloorPx = 0.3;
+
 double displacement(const Observation& a, const Observation& b) {
   return shared_corner_displacement(a.ids, a.pixels, b.ids, b.pixels);
 }
@@ -166,7 +170,14 @@ Result<IntrinsicsFit> fit_intrinsics(const CalibrationBoard& board, const std::v
     if (pass == 1) break;
     std::vector<double> sorted = errors;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double limit = std::max(3 * sorted[sorted.size() / 2], 0.3);
+    // The floor is in pixels of a 320-pixel-wide image and scales with the
+    // width (as the still board's motion does): a corner taken for its
+    // neighbour is off by a square, many pixels at any size, while the
+    // blur of a hand-held board grows with the resolution. A fixed 0.3 px
+    // at 1280 wide leaves out sharp views of a moving board, and with
+    // them what little pins a loosely viewed camera's intrinsics.
+    const double floor_px = kLeftOutFloorPx * image_size.width / 320.0;
+    const double limit = std::max(3 * sorted[sorted.size() / 2], floor_px);
     bool dropped = false;
     for (std::size_t i = 0; i < views.size(); ++i)
       if (fit.views[i].rms_px > limit && views.size() - std::size_t(std::count(kept.begin(), kept.end(), false)) > 3) {

@@ -205,6 +205,38 @@ std::string misdescribed_board(const CalibrationBoard& board, const std::vector<
   return "";
 }
 
+// A camera that films mirror-imaged (a webcam's mirror or "selfie"
+// setting) shows a ChArUco board whose markers read as no marker at all:
+// the board is found in its frames flipped left to right, not as filmed.
+// A sample of at most 20 frames spread over the views is tried both ways;
+// "" unless the flipped frames find the board usable in at least 2 of them
+// and in more than twice as many as the frames as filmed.
+std::string mirrored_camera(const CalibrationBoard& board, const CameraFrames& camera_frames,
+                            const CalibrationLimits& limits, const std::string& camera) {
+  const std::vector<cv::Mat>& frames = camera_frames.views;
+  if (board.spec().kind != BoardKind::Charuco || frames.empty()) return "";
+  const std::size_t step = std::max<std::size_t>(1, frames.size() / 20);
+  int sampled = 0, as_filmed = 0, flipped = 0;
+  cv::Mat mirror;
+  for (std::size_t i = 0; i < frames.size(); i += step) {
+    ++sampled;
+    if (board.usable(board.detect(frames[i]), limits.min_corners)) ++as_filmed;
+    cv::flip(frames[i], mirror, 1);
+    if (board.usable(board.detect(mirror), limits.min_corners)) ++flipped;
+  }
+  if (flipped < 2 || flipped <= 2 * as_filmed) return "";
+  if (camera_frames.flipped)
+    return fmt::format("{} camera: its images are not mirrored: the board is found in {} of {} frames sampled from "
+                       "the views as filmed, in {} flipped left to right by --mirror; leave {} out of --mirror",
+                       camera, flipped, sampled, as_filmed, camera);
+  return fmt::format(
+      "{} camera: its images are mirrored (left–right flipped, a webcam's mirror or selfie setting): the board is "
+      "found in {} of {} frames sampled from the views when they are flipped left to right, in {} as filmed; give "
+      "--mirror {} to calibrate its images flipped, and switch the camera's mirroring off (or flip its frames) for "
+      "the station (docs/calibration.md, \"A mirrored camera\")",
+      camera, flipped, sampled, as_filmed, camera);
+}
+
 // The intrinsics of camera `i`, from elsewhere or from its views (`observed`,
 // every views frame); nothing (and a problem) when they cannot be had.
 std::optional<CameraModel> intrinsics_of(const CalibrationBoard& board, const CameraFrames& frames,
@@ -226,6 +258,13 @@ std::optional<CameraModel> intrinsics_of(const CalibrationBoard& board, const Ca
     return given;
   }
   const auto views = distinct_views(observed, limits, r);
+  if (static_cast<int>(views.size()) < limits.min_views) {
+    // Too few views, or none: a mirrored camera is named before the board.
+    if (std::string mirrored = mirrored_camera(board, frames, limits, r.name); !mirrored.empty()) {
+      problems.push_back(std::move(mirrored));
+      return std::nullopt;
+    }
+  }
   if (r.frames_with_board == 0) {
     problems.push_back(fmt::format(
         "{} camera: the board was not found in any of the {} frames of the views ({}): hold the board ({}) whole in "

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "coordinate_search.hpp"
+#include "upright_view.hpp"
 #include "spinewatch/estimator/anatomy/spine_depth.hpp"
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 
@@ -54,6 +55,16 @@ Eigen::Vector3d on_plane(const CameraModel& cam, const Eigen::Vector2d& pixel, c
   const Eigen::Vector3d r = cam.ray_through(pixel);
   const double t = (d - n.dot(o)) / n.dot(r);
   return o + t * r;
+}
+
+// Whether the top of the head is in view: its row (of an upright view) is
+// not the image's border. A level view's top row is the image's first row;
+// a turned one's is wherever its border crosses the head.
+bool crown_in_view(const UprightView& view, int top) {
+  if (view.level() || top < 0) return top > 0;
+  for (int x = 0; x < view.mask().width(); ++x)
+    if (view.mask().get(x, top) && view.on_image_border(x, top)) return false;
+  return true;
 }
 
 constexpr double kCrown = 0.995;  // top of the model's head as a fraction of height (cvsm-generic.toml)
@@ -190,19 +201,28 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   SubjectEstimate s;
   s.shape.height_mm = options.height_mm;
   s.shape.posture = options.posture.value_or(SubjectPosture::Standing);
-  const int top_f = top_row(frontal), top_l = top_row(lateral);
+  // Rows and columns are read with the world's vertical down the columns
+  // (upright_view.hpp): in views rolled 25° the image's own rows put the
+  // crown 90–120 mm low and the axis up to 60 mm off.
+  const UprightView view_f(rig.frontal, frontal), view_l(rig.lateral, lateral);
+  const BitMask &upright_f = view_f.mask(), &upright_l = view_l.mask();
+  const int top_f = top_row(upright_f), top_l = top_row(upright_l);
   // Subject's vertical axis: frontal columns give z, lateral columns x.
-  const double uf = centre_column(frontal, top_f, 0.25, 0.5);
-  const double ul = centre_column(lateral, top_l, 0.25, 0.5);
-  const Eigen::Vector3d pf = on_plane(rig.frontal, {uf, frontal.height() / 2.0}, Eigen::Vector3d::UnitX(), 0.0);
-  const Eigen::Vector3d pl = on_plane(rig.lateral, {ul, lateral.height() / 2.0}, Eigen::Vector3d::UnitZ(), pf.z());
+  const double uf = centre_column(upright_f, top_f, 0.25, 0.5);
+  const double ul = centre_column(upright_l, top_l, 0.25, 0.5);
+  const Eigen::Vector3d pf =
+      on_plane(rig.frontal, view_f.to_image({uf, upright_f.height() / 2.0}), Eigen::Vector3d::UnitX(), 0.0);
+  const Eigen::Vector3d pl =
+      on_plane(rig.lateral, view_l.to_image({ul, upright_l.height() / 2.0}), Eigen::Vector3d::UnitZ(), pf.z());
   // The trunk's centre line is ahead of the spine by (½ − spine fraction) of the depth.
   const auto& l5 = spec.trunk[kWaistIndex];
   const double spine_x = pl.x() - (0.5 - l5.spine_fraction) * l5.depth * s.shape.height_mm;
   // Height from the head's top in each view where it is not cut off.
   std::vector<double> tops;
-  if (top_f > 0) tops.push_back(on_plane(rig.frontal, {uf, top_f - 0.5}, Eigen::Vector3d::UnitX(), spine_x).y());
-  if (top_l > 0) tops.push_back(on_plane(rig.lateral, {ul, top_l - 0.5}, Eigen::Vector3d::UnitZ(), pf.z()).y());
+  if (crown_in_view(view_f, top_f))
+    tops.push_back(on_plane(rig.frontal, view_f.to_image({uf, top_f - 0.5}), Eigen::Vector3d::UnitX(), spine_x).y());
+  if (crown_in_view(view_l, top_l))
+    tops.push_back(on_plane(rig.lateral, view_l.to_image({ul, top_l - 0.5}), Eigen::Vector3d::UnitZ(), pf.z()).y());
   const double top_y = tops.empty() ? 0.0 : (tops.size() == 1 ? tops[0] : 0.5 * (tops[0] + tops[1]));
   s.given_stature_mm = options.stature_mm;
   s.given_c7_mm = options.c7_height_mm;
@@ -218,13 +238,23 @@ SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, cons
   s.crown_y = tops.empty() ? kCrown * s.shape.height_mm : top_y;
   if (!tops.empty()) s.measured_crown_mm = top_y;
   if (tops.empty()) {
-    // The head is cut off by the top of the image: the crown is above its
+    // The head is cut off by the image's border: the crown is above its
     // edge (by about a third of a head, a guess the fit refines).
-    const double edge = on_plane(rig.frontal, {uf, -0.5}, Eigen::Vector3d::UnitX(), spine_x).y();
+    const Eigen::Vector2d top_edge = view_f.to_image({uf, std::max(top_f, 0) - 0.5});
+    const double edge = on_plane(rig.frontal, top_edge, Eigen::Vector3d::UnitX(), spine_x).y();
     s.crown_y = std::max(s.crown_y, edge + 0.04 * s.shape.height_mm);
   }
   return s;
 }
+
+namespace {
+// The statures a seated subject's model is tried at.
+std::vector<double> seated_heights() {
+  std::vector<double> h;
+  for (double height = 1450; height <= 1950; height += 50) h.push_back(height);
+  return h;
+}
+}  // namespace
 
 int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    const CvsmOptions& options) {
@@ -246,10 +276,12 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // A given stature is the height: tried alone, and not searched.
   std::optional<SubjectEstimate> best_seated;
   std::int64_t best_seated_cost = INT64_MAX;
-  const std::vector<double> scales = s.given_stature_mm ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.88, 1.12};
   const double guess = s.given_stature_mm.value_or(options.height_mm);
-  for (const double scale : scales) {
-    SubjectEstimate seated = seated_at(scale * guess);
+  std::vector<double> heights{guess};
+  if (!s.given_stature_mm) heights = {guess, 0.88 * guess, 1.12 * guess};
+  if (!s.given_stature_mm && s.lower_body_hidden) heights = seated_heights();
+  for (const double height : heights) {
+    SubjectEstimate seated = seated_at(height);
     const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
     if (c < best_seated_cost) {
       best_seated_cost = c;
@@ -263,13 +295,16 @@ int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   }
   // Seated, the crown no longer tells the height: the trunk's length
   // (crown to seat) does, so heights are tried, each hanging from the
-  // measured crown, and the best refined (≈ 800 cost evaluations, once).
-  for (double height = 1450; height <= 1950; height += 50) {
-    SubjectEstimate seated = seated_at(height);
-    const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
-    if (c < best_seated_cost) {
-      best_seated_cost = c;
-      best_seated = seated;
+  // measured crown, and the best refined (≈ 800 cost evaluations, once;
+  // with the lower body hidden, already done above).
+  if (!s.lower_body_hidden) {
+    for (const double height : seated_heights()) {
+      SubjectEstimate seated = seated_at(height);
+      const std::int64_t c = subject_cost(seated, cost, spec, spine, points, INT64_MAX);
+      if (c < best_seated_cost) {
+        best_seated_cost = c;
+        best_seated = seated;
+      }
     }
   }
   n += refine_subject(*best_seated, cost, spec, spine, 60);

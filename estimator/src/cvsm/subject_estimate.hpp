@@ -31,6 +31,10 @@ struct SubjectEstimate {
   // A given stature the standing silhouettes contradicted (see
   // check_given_stature): set aside, and the stature measured instead.
   std::optional<double> rejected_stature_mm;
+  // An occluder hides the lower body in a view (cvsm/occluder_edge.hpp):
+  // the standing and seated models are told apart by what remains, so the
+  // seated one is compared at its best height, not at three guesses.
+  bool lower_body_hidden = false;
   CvsmPose pose;
 };
 

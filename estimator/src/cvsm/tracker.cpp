@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coordinate_search.hpp"
+#include "occluder_edge.hpp"
 #include "outline_fit.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
@@ -476,6 +477,7 @@ struct CvsmTracker::Impl {
   int start_subject(const BitMask& frontal, const BitMask& lateral, const CvsmOptions& options) {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
+    subject->lower_body_hidden = hiding[0] || hiding[1];
     const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
     heading_resolved = heading.resolved();
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
@@ -492,6 +494,7 @@ struct CvsmTracker::Impl {
     }
     cost->set_silhouettes(frontal, lateral);
     silhouette_px = frontal.count() + lateral.count();
+    find_hidden(frontal, lateral);
 
     if (phase == Phase::Building) {
       // Building the subject model: only from clean frames.
@@ -593,15 +596,22 @@ struct CvsmTracker::Impl {
       previous = before;
       phase = flag.empty() ? Phase::Predicting : Phase::Tracking;
     }
+    // An occluder hides the lower body in both views: no view sees the
+    // legs or the pelvis's lower outline, so the waist rests on the model's
+    // guess of them (docs/cvsm.md, "Occluded lower body"). Not published
+    // as tracking; the fit goes on from this pose.
+    if (r.state == TrackingState::Tracking && hiding[0] && hiding[1]) {
+      r.state = TrackingState::Lost;
+      if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+    }
     return r;
   }
 
   int cost_width = 0, cost_height = 0;
-  // Whether the views told the subject's front from its back when the
-  // heading was last searched over the full circle (choose_heading while
-  // building, probe_headings at reacquisition): until they do, nothing is
-  // published as tracking (docs/cvsm.md, "Heading").
-  bool heading_resolved = true;
+    subject->lower_body_hidden = hiding[0] || hiding[1];
+    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
+    heading_resolved = heading.resolved();
+    return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
 };
 
 CvsmTracker::CvsmTracker(const CameraRig& rig, CvsmOptions options) : impl_(std::make_unique<Impl>(rig, std::move(options))) {}

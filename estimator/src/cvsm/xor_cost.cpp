@@ -26,6 +26,18 @@ std::int64_t count_xor_rows(const std::uint64_t* model, const std::uint64_t* sil
   return count;
 }
 
+// The same, not counting the pixels set in `hidden` (laid out alike).
+std::int64_t count_xor_rows_unhidden(const std::uint64_t* model, const std::uint64_t* silhouette, const std::uint64_t* hidden,
+                                     int words, int rows, int step, std::int64_t budget) {
+  std::int64_t count = 0;
+  const std::ptrdiff_t stride = static_cast<std::ptrdiff_t>(words) * step;
+  for (int r = 0; r < rows; ++r, model += stride, silhouette += stride, hidden += stride) {
+    for (int w = 0; w < words; ++w) count += std::popcount((model[w] ^ silhouette[w]) & ~hidden[w]);
+    if (count > budget) break;
+  }
+  return count;
+}
+
 constexpr float kQ8Limit = 1 << 24;  // |Q8| clamp, far outside any image
 
 }  // namespace
@@ -213,8 +225,13 @@ XorCounts XorCost::evaluate(const BodyModel& model, const std::vector<Eigen::Vec
     const int y0 = first_sampled(y_lo_);
     if (y0 <= y_hi_) {
       const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(y0) * words_;
-      x += count_xor_rows(rows_.data() + offset, sil.row(0) + offset, words_, (y_hi_ - y0) / row_step_ + 1, row_step_,
-                          limit - done - x);
+      const BitMask* hidden = hidden_[static_cast<std::size_t>(v)];
+      if (hidden)
+        x += count_xor_rows_unhidden(rows_.data() + offset, sil.row(0) + offset, hidden->row(0) + offset, words_,
+                                     (y_hi_ - y0) / row_step_ + 1, row_step_, limit - done - x);
+      else
+        x += count_xor_rows(rows_.data() + offset, sil.row(0) + offset, words_, (y_hi_ - y0) / row_step_ + 1, row_step_,
+                            limit - done - x);
       if (done + x > limit) {
         counts.xor_px[static_cast<std::size_t>(v)] = x;
         counts.pruned = true;

@@ -23,20 +23,23 @@
 namespace spinewatch {
 namespace {
 
+// The station's [silhouette] keys in the extractor's terms: times in
+// seconds become frames at the camera rate.
 SilhouetteOptions silhouette_options(const EstimatorOptions& o) {
+  const SilhouetteConfig& c = o.silhouette;
   SilhouetteOptions s;
-  s.background = o.background;
-  s.learn_frames = o.learn_frames;
-  s.threshold = o.threshold;
-  s.min_blob_px = o.min_blob_px;
-  s.chroma_threshold = o.chroma_threshold;
-  s.shadow_ratio = o.shadow_ratio;
+  s.background = c.background;
+  s.learn_frames = c.learn_frames;
+  s.threshold = c.threshold;
+  s.min_blob_px = c.min_blob_px;
+  s.chroma_threshold = c.chroma_threshold;
+  s.shadow_ratio = c.shadow_ratio;
   const double fps = std::max(1.0, o.fps);
-  s.adaptation.adapt_frames = o.adapt_s * fps;
-  s.adaptation.margin_px = o.adapt_margin_px;
-  s.adaptation.relearn_empty_frames = static_cast<int>(std::lround(o.relearn_empty_s * fps));
-  s.bootstrap = o.bootstrap;
-  s.bootstrapping.min_moved_px = o.min_blob_px;
+  s.adaptation.adapt_frames = c.adapt_s * fps;
+  s.adaptation.margin_px = c.adapt_margin_px;
+  s.adaptation.relearn_empty_frames = static_cast<int>(std::lround(c.relearn_empty_s * fps));
+  s.bootstrap = c.bootstrap;
+  s.bootstrapping.min_moved_px = c.min_blob_px;
   // The window spans three seconds of samples at the camera rate.
   s.bootstrapping.sample_every = std::max(1, static_cast<int>(std::lround(fps / 10)));
   return s;
@@ -59,19 +62,22 @@ std::string bootstrap_stall_reason(const BootstrapAttempt& a, const BootstrapOpt
   return fmt::format("the subject has uncovered {:.0f} % of the scene behind them so far", 100 * a.revealed());
 }
 
+// The tracker's options: the [cvsm] keys, the worker and the placement of
+// [subject], the models read.
 CvsmOptions cvsm_options(const EstimatorOptions& o) {
   CvsmOptions c;
-  c.subject_frames = o.subject_frames;
-  c.lost_cost = o.lost_cost;
-  c.refine_steps = o.refine_steps;
-  c.limbs = o.limbs;
-  c.height_mm = o.height_mm;
-  c.min_silhouette_px = o.min_blob_px;
-  c.spine_placement = o.spine_placement;
-  c.stature_mm = o.worker.stature_mm;
-  c.c7_height_mm = o.worker.c7_height_mm;
-  c.iliac_crest_height_mm = o.worker.iliac_crest_height_mm;
-  c.mass_kg = o.worker.mass_kg;
+  c.subject_frames = o.cvsm.subject_frames;
+  c.lost_cost = o.cvsm.lost_cost;
+  c.refine_steps = o.cvsm.refine_steps;
+  c.limbs = o.cvsm.limbs;
+  c.height_mm = o.subject.height_mm;
+  c.min_silhouette_px = o.silhouette.min_blob_px;
+  c.spine_placement = o.subject.spine_placement;
+  const KnownWorker worker = known_worker(o.subject);
+  c.stature_mm = worker.stature_mm;
+  c.c7_height_mm = worker.c7_height_mm;
+  c.iliac_crest_height_mm = worker.iliac_crest_height_mm;
+  c.mass_kg = worker.mass_kg;
   c.model = o.cvsm_model;
   c.spine = o.spine_model;
   return c;
@@ -112,14 +118,14 @@ struct PostureEstimator::Impl {
   // The stature the subject model stands on: given, the top of the head
   // standing (measured placement), or the height the fit chose.
   std::optional<WorkerBody> worker_body() const {
-    const KnownWorker& given = options.worker;
+    const KnownWorker given = known_worker(options.subject);
     const BodyModel* subject = tracker.subject_model();
     if (!given.stature_mm && !subject) return std::nullopt;
     WorkerBody b;
     b.rejected_stature_mm = tracker.rejected_stature_mm();
     // The landmarks place the spine with the measured placement, unless the
     // stature given with them was someone else's.
-    if (options.spine_placement == SpinePlacementMode::Measured && !(b.rejected_stature_mm && subject)) {
+    if (options.subject.spine_placement == SpinePlacementMode::Measured && !(b.rejected_stature_mm && subject)) {
       b.c7_height_mm = given.c7_height_mm;
       b.iliac_crest_height_mm = given.iliac_crest_height_mm;
     }
@@ -139,7 +145,7 @@ struct PostureEstimator::Impl {
   }
 
   void set_worker(const KnownWorker& worker) {
-    options.worker = worker;
+    set_known_worker(options.subject, worker);
     tracker = CvsmTracker(rig, cvsm_options(options));
     spine_model.reset();
     dynamics.reset();
@@ -162,9 +168,9 @@ struct PostureEstimator::Impl {
   void ensure_spine_model() {
     if (dynamics) return;
     const BodyModel* subject = tracker.subject_model();
-    const double height = subject ? subject->shape.height_mm : options.height_mm;
+    const double height = subject ? subject->shape.height_mm : options.subject.height_mm;
     SpineModelOptions model_options;
-    model_options.voxel_mm = options.voxel_mm;
+    model_options.voxel_mm = options.spine.voxel_mm;
     // On the spine the CVSM placed in this subject: both models agree on
     // where T1 and L5 sit when the accurate one is driven to them.
     // Its neutral spine is the subject model's (the span between T1 and L5
@@ -179,7 +185,7 @@ struct PostureEstimator::Impl {
     }
     spine_model.emplace(SpineModel::from_subject(spine, model_options));
     DynamicsOptions dynamics_options;
-    dynamics_options.substeps = options.substeps;
+    dynamics_options.substeps = options.spine.substeps;
     dynamics.emplace(*spine_model, dynamics_options);
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
@@ -226,7 +232,7 @@ struct PostureEstimator::Impl {
                    "background` and set silhouette.background_frontal/_lateral, or start the station with nobody in view",
                    v == 0 ? "frontal" : "lateral", no_background_pairs,
                    bootstrap_stall_reason(silhouettes[v].bootstrap_attempt(), silhouette_options(options).bootstrapping,
-                                          options.threshold));
+                                          options.silhouette.threshold));
     }
   }
   int stalled_after_pairs() const {

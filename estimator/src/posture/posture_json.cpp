@@ -1,6 +1,7 @@
 #include "spinewatch/estimator/posture_json.hpp"
 
 #include <cmath>
+#include <istream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -188,6 +189,27 @@ Result<Posture> posture_from_json(const json& j, std::string_view where) {
   }
   if (const json* lat = field("latency_us"); lat && lat->is_number_integer()) p.latency_us = lat->get<std::int64_t>();
   return p;
+}
+
+Result<std::vector<NumberedPosture>> decode_posture_stream(std::istream& in, std::string_view source) {
+  std::vector<NumberedPosture> postures;
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::string where = fmt::format("{}:{}", source, number);
+    const auto j = json::parse(line, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) return Error{fmt::format("{}: not valid JSON", where)};
+    if (j.is_object() && j.value("class", "") == "hello") continue;
+    // The other line a station writes, given where postures were meant.
+    if (j.is_object() && j.value("class", "") == "summary")
+      return Error{fmt::format("{}: an exposure summary line: this is a summaries file (replay --summaries, read by "
+                               "spinewatch report --summaries), not a posture stream; give the file replay --out wrote",
+                               where)};
+    auto posture = posture_from_json(j, where);
+    if (!posture) return posture.error();
+    postures.push_back({number, std::move(posture).value()});
+  }
+  return postures;
 }
 
 }  // namespace spinewatch

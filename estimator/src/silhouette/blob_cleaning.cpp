@@ -5,6 +5,7 @@
 #include <numeric>
 #include <vector>
 
+#include "blob_fragments.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 
 namespace spinewatch {
@@ -118,19 +119,33 @@ BlobSummary keep_largest_blob(BitMask& mask, int min_px) {
     if (runs[i].parent != static_cast<int>(i)) continue;
     if (area[i] >= min_px) ++s.blobs;
     if (area[i] > s.largest_px) {
-      s.second_px = s.largest_px;
       s.largest_px = area[i];
       best = static_cast<int>(i);
-    } else if (area[i] > s.second_px) {
-      s.second_px = area[i];
     }
   }
   mask.clear();
   if (best < 0) return s;
+  // Which blobs are kept: the largest and its fragments (blob_fragments.hpp).
+  std::vector<silhouette_detail::BlobBox> boxes(runs.size());
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    boxes[static_cast<std::size_t>(find(runs, static_cast<int>(i)))].add(runs[i].y, runs[i].x0, runs[i].x1);
+  std::vector<bool> kept(runs.size(), false);
+  kept[static_cast<std::size_t>(best)] = true;
+  const silhouette_detail::BlobBox& subject = boxes[static_cast<std::size_t>(best)];
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (runs[i].parent != static_cast<int>(i) || static_cast<int>(i) == best) continue;
+    if (area[i] >= min_px && silhouette_detail::is_fragment_of(boxes[i], subject)) {
+      kept[i] = true;
+      s.largest_px += area[i];
+      ++s.fragments;
+    } else if (area[i] > s.second_px) {
+      s.second_px = area[i];
+    }
+  }
   s.x_min = mask.width();
   s.y_min = mask.height();
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    if (find(runs, static_cast<int>(i)) != best) continue;
+    if (!kept[static_cast<std::size_t>(find(runs, static_cast<int>(i)))]) continue;
     const Run& r = runs[i];
     set_bits(mask.row(r.y), r.x0, r.x1);
     s.x_min = std::min(s.x_min, r.x0);

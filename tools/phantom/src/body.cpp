@@ -248,38 +248,30 @@ void BodyModel::add_head_and_arms(const SpinePose& spine, std::vector<Solid>& ou
   }
 }
 
-BodyModel::LegRest BodyModel::leg_rest(double side) const {
+BodyModel::LegJoints BodyModel::leg_joints(double side) const {
   const Subject& s = subject_;
   const Eigen::Vector3d hip = neutral_[kWaistIndex].body_center + hip_offset(side);
-  Eigen::Vector3d knee, ankle;
   if (posture_ == SubjectPosture::Seated) {
-    knee = hip + Eigen::Vector3d(0.47 * s.leg_length_mm, -10 * scale_, 0);
-    ankle = Eigen::Vector3d(knee.x() + 40 * scale_, 80 * scale_, knee.z());
-  } else {
-    knee = Eigen::Vector3d(hip.x(), 0.5 * hip.y(), hip.z());
-    ankle = Eigen::Vector3d(hip.x(), 80 * scale_, hip.z());
+    const Eigen::Vector3d knee = hip + Eigen::Vector3d(0.47 * s.leg_length_mm, -10 * scale_, 0);
+    return {hip, knee, Eigen::Vector3d(knee.x() + 40 * scale_, 80 * scale_, knee.z())};
   }
-  return {knee - hip, ankle - knee, Eigen::Vector3d(-20 * scale_, -40 * scale_, 0),
+  return {hip, Eigen::Vector3d(hip.x(), 0.5 * hip.y(), hip.z()), Eigen::Vector3d(hip.x(), 80 * scale_, hip.z())};
+}
+
+BodyModel::LegRest BodyModel::leg_rest(double side) const {
+  const LegJoints j = leg_joints(side);
+  return {j.knee - j.hip, j.ankle - j.knee, Eigen::Vector3d(-20 * scale_, -40 * scale_, 0),
           Eigen::Vector3d(150 * scale_, -45 * scale_, 0)};
 }
 
 void BodyModel::add_legs(std::vector<Solid>& out) const {
   const Subject& s = subject_;
-  const Eigen::Vector3d l5 = neutral_[kWaistIndex].body_center;
   for (double side : {-1.0, 1.0}) {
-    const Eigen::Vector3d hip = l5 + hip_offset(side);
-    Eigen::Vector3d knee, ankle;
-    if (posture_ == SubjectPosture::Seated) {
-      knee = hip + Eigen::Vector3d(0.47 * s.leg_length_mm, -10 * scale_, 0);
-      ankle = Eigen::Vector3d(knee.x() + 40 * scale_, 80 * scale_, knee.z());
-    } else {
-      knee = Eigen::Vector3d(hip.x(), 0.5 * hip.y(), hip.z());
-      ankle = Eigen::Vector3d(hip.x(), 80 * scale_, hip.z());
-    }
-    out.push_back(capsule(hip, knee, s.thigh_radius_mm, s.shin_radius_mm * 1.05, kTrousers));
-    out.push_back(capsule(knee, ankle, s.shin_radius_mm, 0.6 * s.shin_radius_mm, kTrousers));
-    out.push_back(capsule(ankle + Eigen::Vector3d(-20 * scale_, -40 * scale_, 0), ankle + Eigen::Vector3d(150 * scale_, -45 * scale_, 0),
-                          40 * scale_, 35 * scale_, kTrousers));
+    const LegJoints j = leg_joints(side);
+    const LegRest rest = leg_rest(side);
+    out.push_back(capsule(j.hip, j.knee, s.thigh_radius_mm, s.shin_radius_mm * 1.05, kTrousers));
+    out.push_back(capsule(j.knee, j.ankle, s.shin_radius_mm, 0.6 * s.shin_radius_mm, kTrousers));
+    out.push_back(capsule(j.ankle + rest.heel, j.ankle + rest.toe, 40 * scale_, 35 * scale_, kTrousers));
   }
 }
 

@@ -30,10 +30,10 @@ Result<Run> run_subject(const anthropometry::AnsurSubject& row, const std::strin
   run.bmi = bmi(row);
   run.scenario = scenario;
   EstimatorOptions estimator_options = o.estimator;
-  if (o.known_worker || o.known_landmarks) estimator_options.worker = {row.stature_mm, row.mass_kg};
+  if (o.known_worker || o.known_landmarks) set_known_worker(estimator_options.subject, {row.stature_mm, row.mass_kg});
   if (o.known_landmarks) {
-    estimator_options.worker.c7_height_mm = row.cervicale_height_mm;
-    estimator_options.worker.iliac_crest_height_mm = row.iliocristale_height_mm;
+    estimator_options.subject.c7_height_mm = row.cervicale_height_mm;
+    estimator_options.subject.iliac_crest_height_mm = row.iliocristale_height_mm;
   }
   PostureEstimator estimator(seq->options().rig, estimator_options);
   for (int i = 0; i < seq->frame_count(); ++i) {

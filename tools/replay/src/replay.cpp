@@ -44,7 +44,7 @@ Result<std::optional<BackgroundImages>> stored_background(const std::filesystem:
     if (!images) return images.error();
     return std::optional<BackgroundImages>(std::move(images).value());
   }
-  if (options.estimator.background == BackgroundMode::Image)
+  if (options.estimator.silhouette.background == BackgroundMode::Image)
     return Error{fmt::format("{}: background = \"image\" but there is no background_frontal.png / background_lateral.png "
                              "and none is configured (spinewatch background --out DIR)",
                              dir.string())};
@@ -74,7 +74,7 @@ Result<ReplayStats> replay_recording(const std::filesystem::path& dir, const Rep
   EstimatorOptions estimator_options = options.estimator;
   estimator_options.fps = info.fps;
   PostureEstimator estimator(*rig, estimator_options);
-  if (options.estimator.background != BackgroundMode::Threshold) {
+  if (options.estimator.silhouette.background != BackgroundMode::Threshold) {
     auto background = stored_background(dir, options, info);
     if (!background) return background.error();
     if (*background)

@@ -1,16 +1,18 @@
 #pragma once
-// The station's TOML configuration (docs/interfaces.md §6). Every key, its type,
-// default and range is declared once in config_keys.cpp; config/spinewatch.toml
-// is the annotated copy, and a test keeps the two in step.
+// The station's TOML configuration (docs/interfaces.md §6): the aggregate of
+// its components' sections. Each section is a struct whose members hold the
+// values and their defaults, with its key table beside it (name, type,
+// range, reload; frames/option_table.hpp): the estimator's in
+// estimator/estimator_config.hpp, the daemon's below (tables in
+// config_keys.cpp). config/spinewatch.toml documents every key at its
+// default, and a test checks it against the tables (docs/configuration.md).
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "spinewatch/estimator/anatomy/spine_placement.hpp"
-#include "spinewatch/estimator/anatomy/worker.hpp"
-#include "spinewatch/estimator/cvsm/limb_mode.hpp"
-#include "spinewatch/estimator/silhouette/silhouette.hpp"
+#include "spinewatch/estimator/estimator_config.hpp"
+#include "spinewatch/frames/option_table.hpp"
 #include "spinewatch/frames/pixel_format.hpp"
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/sync/trigger_source.hpp"
@@ -36,6 +38,7 @@ struct Config {
   struct Station {
     std::string name = "spinewatch";
     bool operator==(const Station&) const = default;
+    static const OptionTable<Station>& keys();
   } station;
 
   struct Cameras {
@@ -54,6 +57,7 @@ struct Config {
     ReplayPace replay = ReplayPace::Paced;  // how spinewatchd replays a recording
     double watchdog_s = 2.0;
     bool operator==(const Cameras&) const = default;
+    static const OptionTable<Cameras>& keys();
   } cameras;
 
   struct Trigger {
@@ -64,55 +68,20 @@ struct Config {
     int frame_latency_us = 0;  // trigger edge → frame timestamp, both cameras
     std::string controller = "";  // serial device of the trigger controller, "" for none
     bool operator==(const Trigger&) const = default;
+    static const OptionTable<Trigger>& keys();
   } trigger;
 
-  struct Silhouette {
-    BackgroundMode background = BackgroundMode::Learn;
-    int learn_frames = 10;
-    int threshold = 28;        // grey levels above the background difference
-    int chroma_threshold = 12; // chroma levels that make a pixel person whatever its luma (YUYV); 0 = luma only
-    double shadow_ratio = 0.5; // darker down to this fraction, same colour: shadow, not person; 1 = keep shadows
-    int min_blob_px = 600;
-    std::string background_frontal = "";  // the station's empty scene (spinewatch background); "" = none
-    std::string background_lateral = "";
-    double adapt_s = 2.0;          // time constant of the background's adaptation outside the person; 0 = off
-    int adapt_margin_px = 8;       // pixels around the person the adaptation leaves alone
-    double relearn_empty_s = 10;   // an empty scene this long re-learns the whole background; 0 = never
-    bool bootstrap = true;         // no background and someone in view: bootstrap one from their movement
-    bool operator==(const Silhouette&) const = default;
-  } silhouette;
+  using Silhouette = SilhouetteConfig;  // the estimator's (estimator_config.hpp)
+  Silhouette silhouette;
 
-  struct Cvsm {
-    std::string model = "";  // "" = the generic model built in (config/cvsm-generic.toml)
-    int subject_frames = 10;   // upright frames used to build the subject's model
-    double lost_cost = 0.35;   // cost above which tracking is lost
-    int refine_steps = 0;     // outline refinement of each fit: Gauss–Newton steps, 0 = off
-    LimbMode limbs = LimbMode::Fixed;  // "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs")
-    bool operator==(const Cvsm&) const = default;
-  } cvsm;
+  using Cvsm = CvsmConfig;  // the estimator's (estimator_config.hpp)
+  Cvsm cvsm;
 
-  struct Spine {
-    std::string model = "";  // "" = the generic model built in
-    double voxel_mm = 1.0;
-    int substeps = 16;
-    bool operator==(const Spine&) const = default;
-  } spine;
+  using Spine = SpineConfig;  // the estimator's (estimator_config.hpp)
+  Spine spine;
 
-  struct Subject {
-    // The worker's, when known (0 = not known: the stature measured or
-    // estimated from the silhouettes, the mass estimated from the stature).
-    double stature_mm = 0;
-    double mass_kg = 0;
-    // Skin landmarks measured on the worker at set-up (0 = not known): they
-    // place T1 and L5 (docs/anthropometry.md, "A known worker").
-    double c7_height_mm = 0;
-    double iliac_crest_height_mm = 0;
-    double height_mm = 1750.0;  // the starting guess where the stature is not seen
-    // Where the spine sits in the measured body: "measured" (regressions on
-    // ANSUR II, docs/anthropometry.md) or "generic" (fixed fractions of height).
-    SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
-    bool operator==(const Subject&) const = default;
-  } subject;
+  using Subject = SubjectConfig;  // the estimator's (estimator_config.hpp)
+  Subject subject;
 
   struct Publish {
     std::string listen = "127.0.0.1:7117";  // HOST:PORT or "none"
@@ -128,11 +97,13 @@ struct Config {
     std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
     double auth_timeout_s = 10.0;  // the TLS handshake and the auth line must be done within this
     bool operator==(const Publish&) const = default;
+    static const OptionTable<Publish>& keys();
   } publish;
 
   struct Exposure {
     int interval_s = 60;  // length of each exposure summary (docs/exposure.md)
     bool operator==(const Exposure&) const = default;
+    static const OptionTable<Exposure>& keys();
   } exposure;
 
   struct Alerts {
@@ -145,6 +116,7 @@ struct Config {
     std::string gpio_mode = "steady";  // "steady" | "pulse" (AlertSignalMode)
     int pulse_ms = 500;                // pulse: on this long, off this long
     bool operator==(const Alerts&) const = default;
+    static const OptionTable<Alerts>& keys();
   } alerts;
 
   struct Storage {
@@ -153,6 +125,7 @@ struct Config {
     double retention_days = 90;     // rows older than this are deleted
     double max_size_mb = 0;         // the database's size limit; 0 = the disk's
     bool operator==(const Storage&) const = default;
+    static const OptionTable<Storage>& keys();
   } storage;
   struct Http {
     // The live view and /metrics (docs/interfaces.md §5): HOST:PORT, or "" / "none" = off.
@@ -167,12 +140,14 @@ struct Config {
     // As [publish]'s: TLS, client certificates, bearer tokens; "" = off.
     std::string tls_cert = "", tls_key = "", tls_client_ca = "", token_file = "";
     bool operator==(const Http&) const = default;
+    static const OptionTable<Http>& keys();
   } http;
 
   struct Log {
     std::string level = "info";  // trace | debug | info | warn | error
     int status_interval_s = 60;
     bool operator==(const Log&) const = default;
+    static const OptionTable<Log>& keys();
   } log;
 
   struct Mqtt {
@@ -192,6 +167,7 @@ struct Config {
     double reconnect_min_s = 1.0;    // back-off after a failed attempt, doubled up to reconnect_max_s
     double reconnect_max_s = 60.0;
     bool operator==(const Mqtt&) const = default;
+    static const OptionTable<Mqtt>& keys();
   } mqtt;
   struct Privacy {
     // Worker ids (set_worker's "id") stored, published and logged as
@@ -201,6 +177,7 @@ struct Config {
     // /var/lib/spinewatch/pseudonym.key), created 0600 when absent.
     std::string secret_file = "";
     bool operator==(const Privacy&) const = default;
+    static const OptionTable<Privacy>& keys();
   } privacy;
 
   bool operator==(const Config&) const = default;
@@ -209,10 +186,19 @@ struct Config {
 // Parses TOML text; `source` names it in error messages ("FILE:LINE: key: problem").
 Result<Config> parse_config(std::string_view toml_text, std::string_view source);
 Result<Config> load_config(const std::filesystem::path& path);
-// The [subject] keys of the worker (0 = not known).
-KnownWorker known_worker(const Config::Subject& subject);
-
+// Every key of the configuration, "section.key", section by section in the
+// order of Config's members: the loader, the reload and the check of the
+// annotated file all walk this one table.
+const OptionTable<Config>& config_table();
 // Every key the loader knows, "section.key", in declaration order.
 std::vector<std::string> config_keys();
+// A key's value as TOML writes it ("28", "0.5", "true", "\"learn\"").
+std::string toml_text(const OptionValue& value);
+
+// What is wrong with an annotated configuration (config/spinewatch.toml,
+// `spinewatchd --print-config`): it must parse, list every key of
+// config_table() and nothing else, each at the table's default. One
+// message per problem ("FILE:LINE: key: problem"); none when it is right.
+std::vector<std::string> annotated_config_problems(std::string_view toml_text, std::string_view source);
 
 }  // namespace spinewatch

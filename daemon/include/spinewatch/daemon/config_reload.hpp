@@ -9,9 +9,9 @@ namespace spinewatch {
 
 // Keys ("section.key") whose values differ between two configurations.
 std::vector<std::string> changed_keys(const Config& before, const Config& after);
-// Keys that a reload applies without a restart.
+// Keys that a reload applies without a restart (Reload::Live in their table).
 bool reloadable_key(const std::string& key);
-// Every key changed_keys() compares (a test checks it is all of config_keys()).
+// Every key changed_keys() compares: all of config_keys().
 std::vector<std::string> compared_keys();
 
 }  // namespace spinewatch

@@ -12,6 +12,7 @@
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/cvsm/limb_mode.hpp"
+#include "spinewatch/estimator/estimator_config.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
@@ -37,35 +38,19 @@ struct EstimatorTrace {
   BackgroundSource background_source[2] = {BackgroundSource::None, BackgroundSource::None};
 };
 
+// What the estimator runs with: the station's [silhouette], [cvsm], [spine]
+// and [subject] sections as they are (estimator_config.hpp holds their
+// keys and defaults), the camera rate, and the models the caller read.
 struct EstimatorOptions {
-  // Silhouettes (config [silhouette]).
-  BackgroundMode background = BackgroundMode::Learn;
-  int learn_frames = 10;
-  int threshold = 28;
-  int chroma_threshold = 12;     // colour: SilhouetteOptions::chroma_threshold
-  double shadow_ratio = 0.5;     // colour: SilhouetteOptions::shadow_ratio
-  int min_blob_px = 600;
-  double adapt_s = 2.0;         // time constant of the adaptation outside the person; 0 = off
-  int adapt_margin_px = 8;      // left alone around the person
-  double relearn_empty_s = 10;  // empty scene this long → re-learn; 0 = never
-  bool bootstrap = true;        // no background and the subject in view: build one from movement
-  double fps = 30;              // the frame rate the times above are counted in
-  // CVSM (config [cvsm]).
-  int subject_frames = 10;
-  double lost_cost = 0.35;
-  int refine_steps = 0;  // CvsmOptions::refine_steps
-  LimbMode limbs = LimbMode::Fixed;  // CvsmOptions::limbs
-  // Models (config [cvsm] model, [spine] model): nothing = the generic
-  // ones built in. The caller reads and parses the files (no I/O here).
+  SilhouetteConfig silhouette;
+  CvsmConfig cvsm;
+  SpineConfig spine;
+  SubjectConfig subject;  // the worker (set_worker replaces it), the stature's guess, the spine's placement
+  double fps = 30;        // the frame rate the silhouette's times are counted in ([cameras] fps)
+  // The models of cvsm.model and spine.model: nothing = the generic ones
+  // built in. The caller reads and parses the files (no I/O here).
   std::optional<CvsmSpec> cvsm_model;
   std::optional<SpineSpec> spine_model;
-  // Accurate model (config [spine]).
-  int substeps = 16;
-  double voxel_mm = 1.0;
-  // Subject (config [subject]).
-  KnownWorker worker;        // stature and mass when given; else measured or estimated
-  double height_mm = 1750.0;  // the starting guess where the stature is not seen
-  SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
 };
 
 class PostureEstimator {

@@ -61,6 +61,11 @@ class XorCost {
   XorCost(const CameraRig& rig, int width, int height);
 
   void set_silhouettes(const BitMask& frontal, const BitMask& lateral);
+  // Pixels of each view where the model is not compared (nullptr: none):
+  // what an occluder hides (cvsm/occluder_edge.hpp). They must hold no
+  // silhouette pixel; the model's pixels there cost nothing. Kept by
+  // pointer until set again.
+  void set_hidden(const BitMask* frontal, const BitMask* lateral) { hidden_ = {frontal, lateral}; }
   // Count only every `step`-th row (1: all; rounded down to a power of
   // two). A coarse search compares candidates on a row sample at a
   // fraction of the cost; counts are then in sampled pixels (silhouette_px
@@ -116,6 +121,7 @@ class XorCost {
   std::array<std::array<float, 12>, 2> pf_{};  // K·[R|t] per view (distortion-free path)
   int width_, height_, words_;
   std::array<const BitMask*, 2> silhouettes_{};
+  std::array<const BitMask*, 2> hidden_{};
   void update_prefix();
   int row_step_ = 1;
   std::array<std::vector<std::int64_t>, 2> row_count_;   // silhouette pixels per row

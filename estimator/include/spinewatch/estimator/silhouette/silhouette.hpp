@@ -122,9 +122,13 @@ void close_cross(BitMask& mask);
 struct BlobSummary {
   std::int64_t largest_px = 0, second_px = 0;
   int blobs = 0;  // of at least min_px
-  int x_min = 0, x_max = -1, y_min = 0, y_max = -1;  // bounding box of the largest
+  int fragments = 0;  // blobs of at least min_px kept with the largest as pieces of it
+  int x_min = 0, x_max = -1, y_min = 0, y_max = -1;  // bounding box of what is kept
 };
-// Keeps only the largest 8-connected blob of `mask` (run-based labelling).
+// Keeps only the largest 8-connected blob of `mask` (run-based labelling)
+// and the blobs of at least min_px that are fragments of it — above or
+// below it within its columns (docs/cvsm.md, "Silhouettes"); largest_px
+// counts them all, second_px is the largest blob not kept.
 BlobSummary keep_largest_blob(BitMask& mask, int min_px);
 
 }  // namespace spinewatch

@@ -69,6 +69,12 @@ class BodyModel {
     Eigen::Vector3d thigh, shin, heel, toe;
   };
   LegRest leg_rest(double side) const;
+  // Where one resting leg's joints are (world, mm): the one place the rest
+  // legs are drawn from, for the held legs and the articulated ones alike.
+  struct LegJoints {
+    Eigen::Vector3d hip, knee, ankle;
+  };
+  LegJoints leg_joints(double side) const;
   Eigen::Vector3d hip_offset(double side) const;  // in the L5 frame, side −1 left / +1 right
 
   Subject subject_;
