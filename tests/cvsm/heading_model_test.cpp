@@ -68,7 +68,7 @@ cvsm_detail::HeadingChoice choose_on(const Views& v, double& heading) {
   CvsmOptions options;
   cvsm_detail::SubjectEstimate s =
       cvsm_detail::initial_subject(rig, generic_cvsm_spec(), generic_spine_spec(), options, v.frontal, v.lateral);
-  const cvsm_detail::HeadingChoice choice = cvsm_detail::choose_heading(s, cost, generic_cvsm_spec(), generic_spine_spec());
+  const cvsm_detail::HeadingChoice choice = cvsm_detail::choose_heading(s, cost, generic_cvsm_spec(), generic_spine_spec(), HeadingRange::Any);
   heading = s.pose.heading;
   return choice;
 }
@@ -103,6 +103,7 @@ TEST(CvsmHeadingChoice, UndecidedHeadingIsNeverTracking) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel model = other_subject();
   CvsmOptions options;
+  options.heading = HeadingRange::Any;  // the twins are front and back
   options.subject_frames = 3;
   options.spine_placement = SpinePlacementMode::Generic;  // as the choice above
   CvsmTracker tracker(rig, options);

@@ -51,8 +51,22 @@ CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const C
   return turned;
 }
 
+std::vector<double> heading_probes(HeadingRange range, double around) {
+  std::vector<double> out;
+  if (range == HeadingRange::Front) {
+    for (double h = -90; h <= 90; h += kHeadingProbeDeg) out.push_back(h);
+  } else {
+    for (double h = 0; h < 360; h += kHeadingProbeDeg) out.push_back(wrapped_heading(around + h));
+  }
+  return out;
+}
+
+bool heading_allowed(HeadingRange range, double heading_deg) {
+  return range == HeadingRange::Any || std::abs(wrapped_heading(heading_deg)) <= 90;
+}
+
 HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
-                             int budget_each) {
+                             HeadingRange range, int budget_each) {
   HeadingChoice choice;
   std::vector<Eigen::Vector3d> points;
   const BodyModel model = build(s, spec, spine);
@@ -63,10 +77,9 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
   std::vector<Tried> tried;
   SubjectEstimate best = s;
   std::int64_t best_cost = INT64_MAX;
-  for (double h = 0; h < 360; h += kHeadingProbeDeg) {
+  for (const double h : heading_probes(range, 0)) {
     SubjectEstimate candidate = s;
-    // Headings are kept in (−180, 180].
-    candidate.pose = turned_in_place(model, spine, s.pose, wrapped_heading(h));
+    candidate.pose = turned_in_place(model, spine, s.pose, h);
     choice.evaluations += refine_subject(candidate, cost, spec, spine, budget_each);
     const XorCounts counts = estimate_cost(candidate, cost, spec, spine, points);
     const std::int64_t c = counts.total();
@@ -84,6 +97,7 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
   const auto gain = static_cast<std::int64_t>(kHeadingMarginFraction * static_cast<double>(choice.silhouette_px));
   for (double step = kHeadingProbeDeg / 4; step >= 1; step /= 2)
     for (const double dir : {1.0, -1.0}) {
+      if (!heading_allowed(range, best.pose.heading + dir * step)) continue;
       SubjectEstimate trial = best;
       trial.pose = turned_in_place(best_model, spine, best.pose, wrapped_heading(best.pose.heading + dir * step));
       const std::int64_t c = estimate_cost(trial, cost, spec, spine, points).total();

@@ -3,6 +3,9 @@
 // tried when the subject model is started and at every (re)acquisition,
 // both views together deciding front from back.
 #include <cstdint>
+#include <vector>
+
+#include "spinewatch/estimator/cvsm/heading_range.hpp"
 
 #include "subject_estimate.hpp"
 
@@ -10,6 +13,12 @@ namespace spinewatch::cvsm_detail {
 
 // Headings tried around the full circle, degrees apart.
 inline constexpr double kHeadingProbeDeg = 30;
+
+// The headings probed round the circle: every kHeadingProbeDeg from
+// `around` (Any), or the front half only, −90…90° (Front).
+std::vector<double> heading_probes(HeadingRange range, double around);
+// Whether a heading is one the range lets the subject face.
+bool heading_allowed(HeadingRange range, double heading_deg);
 
 // Angular distance of two headings, 0…180°.
 double heading_apart(double a, double b);
@@ -48,6 +57,6 @@ struct HeadingChoice {
 // the translation that keeps the trunk in place) is kept in `subject`:
 // its shape is refined as before, at that heading.
 HeadingChoice choose_heading(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
-                             int budget_each = 60);
+                             HeadingRange range, int budget_each = 60);
 
 }  // namespace spinewatch::cvsm_detail

@@ -345,6 +345,7 @@ struct CvsmTracker::Impl {
     std::int64_t best = current_cost - gain;
     const double start = pose.heading;
     for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
+      if (!cvsm_detail::heading_allowed(opt.heading, start + step)) continue;
       CvsmPose trial = pose;
       trial.heading = cvsm_detail::wrapped_heading(start + step);
       const std::int64_t c = cost_of(trial, a, best);
@@ -370,8 +371,8 @@ struct CvsmTracker::Impl {
     };
     std::vector<Probe> probes;
     std::size_t best = 0;
-    for (double h = 0; h < 360; h += cvsm_detail::kHeadingProbeDeg) {
-      const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, cvsm_detail::wrapped_heading(pose.heading + h));
+    for (const double h : cvsm_detail::heading_probes(opt.heading, pose.heading)) {
+      const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, h);
       probes.push_back({trial, cost_of(trial, to_params(trial), INT64_MAX)});
       if (probes.back().cost < probes[best].cost) best = probes.size() - 1;
     }
@@ -478,7 +479,7 @@ struct CvsmTracker::Impl {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     subject->lower_body_hidden = hiding[0] || hiding[1];
-    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
+    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, opt.heading);
     heading_resolved = heading.resolved();
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
@@ -524,7 +525,7 @@ struct CvsmTracker::Impl {
         cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
         fresh.measured_spine = subject->measured_spine;
         fresh.shape.posture = subject->shape.posture;
-        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine);
+        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine, opt.heading);
         heading_resolved = heading.resolved();
         candidates += heading.evaluations;
         if (heading_resolved && fresh.pose.heading != subject->pose.heading)
@@ -608,10 +609,37 @@ struct CvsmTracker::Impl {
   }
 
   int cost_width = 0, cost_height = 0;
-    subject->lower_body_hidden = hiding[0] || hiding[1];
-    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine);
-    heading_resolved = heading.resolved();
-    return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+  // Whether the views told the subject's front from its back when the
+  // heading was last searched (choose_heading while building,
+  // probe_headings at reacquisition): until they do, nothing is
+  // published as tracking (docs/cvsm.md, "Heading").
+  bool heading_resolved = true;
+
+  // What an occluder in front of the person hides in each view (docs/cvsm.md,
+  // "Occluded lower body"): the cost does not count the model there.
+  std::array<BitMask, 2> hidden;
+  std::array<bool, 2> hiding{};
+  void find_hidden(const BitMask& frontal, const BitMask& lateral) {
+    // The floor under the person: under the waist once a model exists,
+    // else under the point the station looks at.
+    Eigen::Vector3d under = Eigen::Vector3d::Zero();
+    if (init_frames > 0) {
+      const Eigen::Vector3d waist = pose_vertebrae(model, spine, pose)[kWaistIndex].body_center;
+      under = {waist.x(), 0, waist.z()};
+    }
+    const BitMask* masks[2] = {&frontal, &lateral};
+    const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
+    for (std::size_t v = 0; v < 2; ++v) {
+      hiding[v] = false;
+      const std::optional<Eigen::Vector2d> floor = cams[v]->project(under);
+      if (!floor) continue;
+      if (const auto edge = cvsm_detail::find_occluder_edge(*masks[v], floor->y())) {
+        cvsm_detail::hidden_below(*edge, *masks[v], hidden[v]);
+        hiding[v] = true;
+      }
+    }
+    cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+  }
 };
 
 CvsmTracker::CvsmTracker(const CameraRig& rig, CvsmOptions options) : impl_(std::make_unique<Impl>(rig, std::move(options))) {}

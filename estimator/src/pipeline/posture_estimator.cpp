@@ -70,6 +70,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.lost_cost = o.cvsm.lost_cost;
   c.refine_steps = o.cvsm.refine_steps;
   c.limbs = o.cvsm.limbs;
+  c.heading = o.cvsm.heading;
   c.height_mm = o.subject.height_mm;
   c.min_silhouette_px = o.silhouette.min_blob_px;
   c.spine_placement = o.subject.spine_placement;
