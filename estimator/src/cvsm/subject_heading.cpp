@@ -61,6 +61,12 @@ std::vector<double> heading_probes(HeadingRange range, double around) {
   return out;
 }
 
+std::int64_t cost_to_beat_facing(HeadingRange range, double heading_deg, std::int64_t facing_cost,
+                                 std::int64_t silhouette_px) {
+  if (range == HeadingRange::Any || wrapped_heading(heading_deg) == 0) return facing_cost;
+  return facing_cost - static_cast<std::int64_t>(kFrontPreferenceFraction * static_cast<double>(silhouette_px));
+}
+
 bool heading_allowed(HeadingRange range, double heading_deg) {
   return range == HeadingRange::Any || std::abs(wrapped_heading(heading_deg)) <= 90;
 }
@@ -75,8 +81,8 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
     std::int64_t cost;
   };
   std::vector<Tried> tried;
-  SubjectEstimate best = s;
-  std::int64_t best_cost = INT64_MAX;
+  SubjectEstimate best = s, facing = s;
+  std::int64_t best_cost = INT64_MAX, facing_cost = INT64_MAX, facing_silhouette_px = 0;
   for (const double h : heading_probes(range, 0)) {
     SubjectEstimate candidate = s;
     candidate.pose = turned_in_place(model, spine, s.pose, h);
@@ -90,6 +96,18 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
       best = candidate;
       choice.silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
     }
+    if (h == 0) {
+      facing = candidate;
+      facing_cost = c;
+      facing_silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    }
+  }
+  // The front range prefers facing the frontal camera (kFrontPreferenceFraction).
+  if (facing_cost != INT64_MAX &&
+      best_cost >= cost_to_beat_facing(range, best.pose.heading, facing_cost, facing_silhouette_px)) {
+    best = facing;
+    best_cost = facing_cost;
+    choice.silhouette_px = facing_silhouette_px;
   }
   // Between the probes: the heading alone, halving steps from a quarter
   // of their spacing down to a degree, each past the cost's noise.

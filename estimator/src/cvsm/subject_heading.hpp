@@ -20,6 +20,22 @@ std::vector<double> heading_probes(HeadingRange range, double around);
 // Whether a heading is one the range lets the subject face.
 bool heading_allowed(HeadingRange range, double heading_deg);
 
+// With the front range, the station as installed: the worker faces the
+// frontal camera, and another heading is taken only when it explains this
+// fraction more of the silhouettes' pixels than facing it does — twenty
+// times the cost's pair-to-pair noise (kHeadingMarginFraction). A body the
+// model draws badly (a box carried, a cluttered room) costs a third or more
+// of its silhouettes at every heading, and there a turn of 30° won by 3–4 %
+// (docs/cvsm.md, "Heading"); a subject really turned 30° wins by 9 %, 90° by
+// 40 %. The full circle has no such preference: a subject with his back to
+// the frontal camera beats facing it by only 1.4–2.1 %.
+inline constexpr double kFrontPreferenceFraction = 0.05;
+// The cost `heading_deg` must reach to be taken over facing the frontal
+// camera at `facing_cost`: the cost itself where the range has no
+// preference or the heading faces the camera.
+std::int64_t cost_to_beat_facing(HeadingRange range, double heading_deg, std::int64_t facing_cost,
+                                 std::int64_t silhouette_px);
+
 // Angular distance of two headings, 0…180°.
 double heading_apart(double a, double b);
 // A heading in (−180, 180].

@@ -376,13 +376,21 @@ struct CvsmTracker::Impl {
       probes.push_back({trial, cost_of(trial, to_params(trial), INT64_MAX)});
       if (probes.back().cost < probes[best].cost) best = probes.size() - 1;
     }
+    // The silhouettes' pixels, whatever the pose.
+    const XorCounts counts = evaluate(*trunk_search_model, probes[best].pose, INT64_MAX);
+    const std::int64_t silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    // The front range prefers facing the frontal camera (subject_heading.hpp).
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      if (cvsm_detail::wrapped_heading(probes[i].pose.heading) == 0 &&
+          probes[best].cost >=
+              cvsm_detail::cost_to_beat_facing(opt.heading, probes[best].pose.heading, probes[i].cost, silhouette_px))
+        best = i;
     std::int64_t other_side = INT64_MAX;
     for (const Probe& p : probes)
       if (cvsm_detail::heading_apart(p.pose.heading, probes[best].pose.heading) >= 90) other_side = std::min(other_side, p.cost);
     cvsm_detail::HeadingChoice choice;
     choice.margin_px = other_side - probes[best].cost;
-    const XorCounts counts = evaluate(*trunk_search_model, probes[best].pose, INT64_MAX);
-    choice.silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    choice.silhouette_px = silhouette_px;
     heading_resolved = choice.resolved();
     pose = probes[best].pose;
     return static_cast<int>(probes.size()) + 1;
