@@ -86,6 +86,15 @@ TEST(CvsmHeading, BackToTheFrontalCameraArticulatedTrackedRight) {
   expect_right_or_silent(180, LimbMode::Articulated, HeadingRange::Any);
 }
 
+// [cvsm] heading = "fixed" (the default): the subject is held facing the
+// frontal camera, the fit as it was without a heading.
+TEST(CvsmHeading, TheFixedRangeHoldsTheSubjectFacingTheFrontalCamera) {
+  const HeadingRun run = run_turned(30, LimbMode::Fixed, HeadingRange::Fixed);
+  ASSERT_EQ(run.person_frames, 24);
+  ASSERT_GT(run.tracking, 0);
+  EXPECT_EQ(run.farthest_from_front_deg, 0.0);
+}
+
 // [cvsm] heading = "front": the fit never turns the subject past 90° from
 // facing the frontal camera, even when he stands with his back to it
 // (docs/cvsm.md, "Heading": that station is installed wrongly for the

@@ -53,7 +53,9 @@ CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const C
 
 std::vector<double> heading_probes(HeadingRange range, double around) {
   std::vector<double> out;
-  if (range == HeadingRange::Front) {
+  if (range == HeadingRange::Fixed) {
+    out.push_back(0);
+  } else if (range == HeadingRange::Front) {
     for (double h = -90; h <= 90; h += kHeadingProbeDeg) out.push_back(h);
   } else {
     for (double h = 0; h < 360; h += kHeadingProbeDeg) out.push_back(wrapped_heading(around + h));
@@ -68,6 +70,7 @@ std::int64_t cost_to_beat_facing(HeadingRange range, double heading_deg, std::in
 }
 
 bool heading_allowed(HeadingRange range, double heading_deg) {
+  if (range == HeadingRange::Fixed) return wrapped_heading(heading_deg) == 0;
   return range == HeadingRange::Any || std::abs(wrapped_heading(heading_deg)) <= 90;
 }
 

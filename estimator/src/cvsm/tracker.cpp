@@ -340,6 +340,7 @@ struct CvsmTracker::Impl {
   static constexpr double kHeadingStepDeg = 2;
   std::int64_t silhouette_px = 0;  // both views of the current pair, whole pixels
   int follow_heading(std::int64_t current_cost) {
+    if (opt.heading == HeadingRange::Fixed) return 0;
     const PoseParams a = to_params(pose);
     const auto gain = static_cast<std::int64_t>(cvsm_detail::kHeadingMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
     std::int64_t best = current_cost - gain;
@@ -363,6 +364,7 @@ struct CvsmTracker::Impl {
   // Sets heading_resolved: whether the best heading beat every heading
   // 90° or more from it by choose_heading's margin.
   int probe_headings() {
+    if (opt.heading == HeadingRange::Fixed) return 0;
     CvsmPose upright = pose;
     upright.flexion = upright.lateral = upright.twist = upright.pelvis_flexion = upright.pelvis_lateral = 0;
     struct Probe {
@@ -487,6 +489,7 @@ struct CvsmTracker::Impl {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     subject->lower_body_hidden = hiding[0] || hiding[1];
+    if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
     const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, opt.heading);
     heading_resolved = heading.resolved();
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
