@@ -105,7 +105,7 @@ double sphere_radius(const SpinePose& spine, std::size_t i) {
 void draw_cvsm_surface(cv::Mat& view, const CameraModel& camera, const CvsmResult& fit, const BodyModel& model,
                        int scale) {
   std::vector<Eigen::Vector3d> points;
-  control_points(model, fit.vertebrae, points);
+  control_points(model, fit.vertebrae, points, fit.pose.limbs, fit.pose.heading);
   std::vector<std::optional<cv::Point2d>> px(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) px[i] = view_point(camera, points[i], scale);
   const auto at = [&](int plane, int k) { return px[static_cast<std::size_t>(plane * kControlPoints + k)]; };

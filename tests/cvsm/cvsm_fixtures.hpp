@@ -34,7 +34,7 @@ struct Views {
 
 inline Views render(const CameraRig& rig, const BodyModel& model, const CvsmPose& pose) {
   std::vector<Eigen::Vector3d> pts;
-  control_points(model, pose_vertebrae(model, generic_spine_spec(), pose), pts, pose.limbs);
+  control_points(model, pose_vertebrae(model, generic_spine_spec(), pose), pts, pose.limbs, pose.heading);
   cv::Mat f(kH, kW, CV_8U), l(kH, kW, CV_8U);
   test::render_reference(rig.frontal, model, pts, f);
   test::render_reference(rig.lateral, model, pts, l);

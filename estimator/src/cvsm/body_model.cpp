@@ -187,7 +187,22 @@ SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const C
   const Eigen::Vector3d l5 = model.neutral[kWaistIndex].body_center;
   const Eigen::Vector3d hips = l5 + 0.5 * (model.hip_left + model.hip_right);  // neutral L5 frame is the world's
   motion.pelvis_translation = pose.translation + (hips + joint_rotation(motion.pelvis) * (l5 - hips) - l5);
-  return pose_spine(model.neutral, motion);
+  SpinePose posed = pose_spine(model.neutral, motion);
+  if (pose.heading == 0) return posed;
+  // The whole body turns about the vertical through the hip joints where
+  // the translation put them: heading and translation stay independent.
+  const Eigen::Matrix3d turn = heading_rotation(pose.heading);
+  const Eigen::Quaterniond q_turn(turn);
+  const Eigen::Vector3d pivot = hips + pose.translation;
+  for (VertebraPose& v : posed) {
+    v.body_center = pivot + turn * (v.body_center - pivot);
+    v.q = (q_turn * v.q).normalized();
+  }
+  return posed;
+}
+
+Eigen::Matrix3d heading_rotation(double heading_deg) {
+  return Eigen::AngleAxisd(heading_deg * (M_PI / 180), Eigen::Vector3d::UnitY()).toRotationMatrix();
 }
 
 bool LimbPose::neutral() const {
@@ -226,14 +241,15 @@ Eigen::Matrix3d limb_joint_rotation(JointId joint, const LimbPose& limbs) {
   return Eigen::Matrix3d::Identity();
 }
 
-void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eigen::Vector3d>& out, const LimbPose& limbs) {
+void control_points(const BodyModel& model, const SpinePose& v, std::vector<Eigen::Vector3d>& out, const LimbPose& limbs,
+                    double heading_deg) {
   std::array<Eigen::Matrix3d, kFrameCount> R;
   std::array<Eigen::Vector3d, kFrameCount> c;
   for (std::size_t i = 0; i < kVertebraCount; ++i) {
     R[i] = v[i].q.toRotationMatrix();
     c[i] = v[i].body_center;
   }
-  R[kLegLeftFrame] = R[kLegRightFrame] = Eigen::Matrix3d::Identity();
+  R[kLegLeftFrame] = R[kLegRightFrame] = heading_deg == 0 ? Eigen::Matrix3d::Identity() : heading_rotation(heading_deg);
   c[kLegLeftFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_left;
   c[kLegRightFrame] = c[kWaistIndex] + R[kWaistIndex] * model.hip_right;
   // Each joint's turn, its parents' included, as x → A·x + b in its

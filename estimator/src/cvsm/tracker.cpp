@@ -9,6 +9,7 @@
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 #include "subject_estimate.hpp"
+#include "subject_heading.hpp"
 
 namespace spinewatch {
 
@@ -160,11 +161,16 @@ struct CvsmTracker::Impl {
 
   XorCounts evaluate(const BodyModel& m, const CvsmPose& p, std::int64_t limit) {
     const SpinePose v = pose_vertebrae(m, spine, p);
-    control_points(m, v, points, p.limbs);
+    control_points(m, v, points, p.limbs, p.heading);
     return cost->evaluate(m, points, limit);
   }
   // The pose with these trunk parameters and the limbs held where they are.
-  CvsmPose trunk_pose(const PoseParams& a) const { return to_pose(a, pose.limbs); }
+  // The heading, too, is held: it has a search of its own (follow_heading).
+  CvsmPose trunk_pose(const PoseParams& a) const {
+    CvsmPose p = to_pose(a, pose.limbs);
+    p.heading = pose.heading;
+    return p;
+  }
 
   // The hip joints stay where the subject stood or sat: moving them is
   // charged in pixels, so a bend is explained by the spine and pelvis
@@ -238,8 +244,10 @@ struct CvsmTracker::Impl {
     auto d = coordinate_descent(c.best, c.best_cost, step, 2, budget - c.evaluations,
                                 [&](const PoseParams& a, std::int64_t limit) { return cost_of(a, limit); }, true);
     pose = trunk_pose(d.params);
+    searched_cost = d.best;
     return c.evaluations + d.evaluations;
   }
+  std::int64_t searched_cost = INT64_MAX;  // local_search's result's
 
   // The articulated limbs, with the trunk held where its search left it:
   // probes of each angle, then a coordinate descent over the fifteen
@@ -317,10 +325,77 @@ struct CvsmTracker::Impl {
       }
     PoseParams a = to_params(pose);
     const int scans = fit.refine(a, steps, [&](const PoseParams& p, std::vector<Eigen::Vector3d>& out) {
-      control_points(model, pose_vertebrae(model, spine, trunk_pose(p)), out, pose.limbs);
+      control_points(model, pose_vertebrae(model, spine, trunk_pose(p)), out, pose.limbs, pose.heading);
     }, prior);
     pose = trunk_pose(a);
     return scans;
+  }
+
+  // The heading per tracked pair: one step either way from where it was
+  // (a person turns a few degrees between pairs), kept when it fits
+  // better by more than four times the pair-to-pair noise of the cost
+  // (kHeadingMarginFraction): a few degrees of heading and of axial
+  // twist draw nearly the same outline, and the heading must not follow
+  // the twist. Two evaluations.
+  static constexpr double kHeadingStepDeg = 2;
+  std::int64_t silhouette_px = 0;  // both views of the current pair, whole pixels
+  int follow_heading(std::int64_t current_cost) {
+    if (opt.heading == HeadingRange::Fixed) return 0;
+    const PoseParams a = to_params(pose);
+    const auto gain = static_cast<std::int64_t>(cvsm_detail::kHeadingMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
+    std::int64_t best = current_cost - gain;
+    const double start = pose.heading;
+    for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
+      if (!cvsm_detail::heading_allowed(opt.heading, start + step)) continue;
+      CvsmPose trial = pose;
+      trial.heading = cvsm_detail::wrapped_heading(start + step);
+      const std::int64_t c = cost_of(trial, a, best);
+      if (c < best) {
+        best = c;
+        pose = trial;
+      }
+    }
+    return 2;
+  }
+
+  // At (re)acquisition the subject may have turned any way: the full
+  // circle, every kHeadingProbeDeg, at the upright trunk where the subject
+  // was last; the global search then starts from the best.
+  // Sets heading_resolved: whether the best heading beat every heading
+  // 90° or more from it by choose_heading's margin.
+  int probe_headings() {
+    if (opt.heading == HeadingRange::Fixed) return 0;
+    CvsmPose upright = pose;
+    upright.flexion = upright.lateral = upright.twist = upright.pelvis_flexion = upright.pelvis_lateral = 0;
+    struct Probe {
+      CvsmPose pose;
+      std::int64_t cost;
+    };
+    std::vector<Probe> probes;
+    std::size_t best = 0;
+    for (const double h : cvsm_detail::heading_probes(opt.heading, pose.heading)) {
+      const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, h);
+      probes.push_back({trial, cost_of(trial, to_params(trial), INT64_MAX)});
+      if (probes.back().cost < probes[best].cost) best = probes.size() - 1;
+    }
+    // The silhouettes' pixels, whatever the pose.
+    const XorCounts counts = evaluate(*trunk_search_model, probes[best].pose, INT64_MAX);
+    const std::int64_t silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
+    // The front range prefers facing the frontal camera (subject_heading.hpp).
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      if (cvsm_detail::wrapped_heading(probes[i].pose.heading) == 0 &&
+          probes[best].cost >=
+              cvsm_detail::cost_to_beat_facing(opt.heading, probes[best].pose.heading, probes[i].cost, silhouette_px))
+        best = i;
+    std::int64_t other_side = INT64_MAX;
+    for (const Probe& p : probes)
+      if (cvsm_detail::heading_apart(p.pose.heading, probes[best].pose.heading) >= 90) other_side = std::min(other_side, p.cost);
+    cvsm_detail::HeadingChoice choice;
+    choice.margin_px = other_side - probes[best].cost;
+    choice.silhouette_px = silhouette_px;
+    heading_resolved = choice.resolved();
+    pose = probes[best].pose;
+    return static_cast<int>(probes.size()) + 1;
   }
 
   // Whole-range search over trunk flexion and lateral bending, then a wide
@@ -414,7 +489,10 @@ struct CvsmTracker::Impl {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     subject->lower_body_hidden = hiding[0] || hiding[1];
-    return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, opt.heading);
+    heading_resolved = heading.resolved();
+    return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
 
   CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag) {
@@ -427,6 +505,7 @@ struct CvsmTracker::Impl {
       cost_height = frontal.height();
     }
     cost->set_silhouettes(frontal, lateral);
+    silhouette_px = frontal.count() + lateral.count();
     find_hidden(frontal, lateral);
 
     if (phase == Phase::Building) {
@@ -448,6 +527,20 @@ struct CvsmTracker::Impl {
           candidates += start_subject(frontal, lateral, unknown);
           subject->rejected_stature_mm = rejected;
         }
+      } else if (!heading_resolved) {
+        // The first pairs did not tell front from back: the full circle
+        // again on this one (the subject may have bent or turned since),
+        // from this pair's own first estimate as on the first pair. (From
+        // the model refined so far, the heading it was refined at starts
+        // ahead of the others and wins by that alone.)
+        cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+        fresh.measured_spine = subject->measured_spine;
+        fresh.shape.posture = subject->shape.posture;
+        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine, opt.heading);
+        heading_resolved = heading.resolved();
+        candidates += heading.evaluations;
+        if (heading_resolved && fresh.pose.heading != subject->pose.heading)
+          subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, fresh.pose.heading);
       }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
@@ -457,7 +550,9 @@ struct CvsmTracker::Impl {
       home = pose.translation;
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
-      if (init_frames >= opt.subject_frames) {
+      // The model is complete only once the heading is known: a subject
+      // whose front the views cannot tell from its back stays init.
+      if (init_frames >= opt.subject_frames && heading_resolved) {
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
       }
@@ -475,7 +570,8 @@ struct CvsmTracker::Impl {
     const bool searched_globally = phase == Phase::Searching;
     if (searched_globally) {
       anchored = false;
-      candidates = global_search(opt.global_budget);
+      candidates = probe_headings();
+      candidates += global_search(opt.global_budget);
       // The limbs from wherever they were, in wide steps, then the trunk
       // again with them.
       candidates += limb_search(2 * opt.limb_budget, 8, 3);
@@ -486,6 +582,7 @@ struct CvsmTracker::Impl {
       // trunk held, the trunk once more.
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
       candidates = local_search(opt.local_budget);
+      candidates += follow_heading(searched_cost);
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
       candidates += joint_refinement(opt.joint_budget);
@@ -500,6 +597,8 @@ struct CvsmTracker::Impl {
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.
     if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);
+    // Found again, but its front not told from its back: not published.
+    if (searched_globally && !heading_resolved) r.state = TrackingState::Lost;
     if (r.state == TrackingState::Lost) {
       // Keep the last good pose as the start of the next search.
       if (!predicted) pose = before;
@@ -521,6 +620,11 @@ struct CvsmTracker::Impl {
   }
 
   int cost_width = 0, cost_height = 0;
+  // Whether the views told the subject's front from its back when the
+  // heading was last searched (choose_heading while building,
+  // probe_headings at reacquisition): until they do, nothing is
+  // published as tracking (docs/cvsm.md, "Heading").
+  bool heading_resolved = true;
 
   // What an occluder in front of the person hides in each view (docs/cvsm.md,
   // "Occluded lower body"): the cost does not count the model there.

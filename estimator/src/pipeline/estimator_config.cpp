@@ -34,6 +34,7 @@ const OptionTable<CvsmConfig>& CvsmConfig::keys() {
       number_key("lost_cost", &S::lost_cost, 0.01, 2.0),
       integer_key("refine_steps", &S::refine_steps, 0, 4),
       mode_key("limbs", &S::limbs, {{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}}),
+      mode_key("heading", &S::heading, {{"fixed", HeadingRange::Fixed}, {"front", HeadingRange::Front}, {"any", HeadingRange::Any}}),
   };
   return table;
 }

@@ -70,6 +70,7 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
   c.lost_cost = o.cvsm.lost_cost;
   c.refine_steps = o.cvsm.refine_steps;
   c.limbs = o.cvsm.limbs;
+  c.heading = o.cvsm.heading;
   c.height_mm = o.subject.height_mm;
   c.min_silhouette_px = o.silhouette.min_blob_px;
   c.spine_placement = o.subject.spine_placement;
@@ -88,6 +89,22 @@ CvsmOptions cvsm_options(const EstimatorOptions& o) {
 double step_seconds(std::optional<std::int64_t> previous_ns, std::int64_t now_ns) {
   if (!previous_ns) return 1.0 / 30;
   return std::clamp(double(now_ns - *previous_ns) * 1e-9, 1.0 / 240, 0.2);
+}
+
+// The ergonomic angles are the body's own (sagittal: the way the subject
+// faces; docs/cvsm.md, "Heading"): measured on the posture turned back by
+// the fit's heading, so a forward bend with the back to the frontal camera
+// is a forward bend, not an extension.
+SpinePose facing_front(const SpinePose& pose, double heading_deg) {
+  if (heading_deg == 0) return pose;
+  const Eigen::Matrix3d back = heading_rotation(-heading_deg);
+  const Eigen::Quaterniond q_back(back);
+  SpinePose turned = pose;
+  for (VertebraPose& v : turned) {
+    v.body_center = back * v.body_center;
+    v.q = (q_back * v.q).normalized();
+  }
+  return turned;
 }
 
 }  // namespace
@@ -377,7 +394,7 @@ Posture PostureEstimator::process(const FramePair& pair) {
     posture.angles.push_back({fmt::format("{}-{}", kVertebraNames[i], kVertebraNames[i + 1]), angles[i].flexion,
                               angles[i].lateral, angles[i].twist});
   posture.loads = compute_loads(pose, m.load_params);
-  posture.ergonomics = m.ergonomics->update(pose, posture.loads, pair.timestamp_ns);
+  posture.ergonomics = m.ergonomics->update(facing_front(pose, fit.pose.heading), posture.loads, pair.timestamp_ns);
   return posture;
 }
 

@@ -141,6 +141,12 @@ struct CvsmPose {
   double pelvis_flexion = 0, pelvis_lateral = 0;   // degrees, about the hip joints
   Eigen::Vector3d translation{0, 0, 0};            // mm, of the hip joints (and L5) from neutral
   LimbPose limbs;                                   // articulated limbs ([cvsm] limbs = "articulated")
+  // Which way the whole body faces: a turn about the world's vertical
+  // through the hip joints, degrees, counter-clockwise seen from above
+  // (0: facing the frontal camera, +X; 90: facing −Z; 180: the back to the
+  // frontal camera). Applied last, so every other parameter is the body's
+  // own (docs/cvsm.md, "Heading").
+  double heading = 0;
 };
 
 // The same model with only every `keep`-th vertebra ring in the trunk
@@ -151,9 +157,13 @@ BodyModel thin_trunk(const BodyModel& model, int keep);
 SpinePose pose_vertebrae(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose);
 // World control points (planes.size() × kControlPoints) of the planes the
 // model's chains use (in a thinned model the skipped rings are left as
-// they were), the limbs turned by `limbs`.
+// they were), the limbs turned by `limbs`; `heading_deg` is the pose's
+// heading (the vertebrae are already turned by it; the legs hang in its
+// frame).
 void control_points(const BodyModel& model, const SpinePose& vertebrae, std::vector<Eigen::Vector3d>& out,
-                    const LimbPose& limbs = {});
+                    const LimbPose& limbs = {}, double heading_deg = 0);
+// The heading's turn about the world's vertical (CvsmPose::heading).
+Eigen::Matrix3d heading_rotation(double heading_deg);
 // Each joint's turn alone, in its frame (tests: the reference chain).
 Eigen::Matrix3d limb_joint_rotation(JointId joint, const LimbPose& limbs);
 

@@ -13,6 +13,7 @@
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/cvsm/heading_range.hpp"
 #include "spinewatch/estimator/cvsm/limb_mode.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
@@ -57,6 +58,7 @@ struct CvsmOptions {
   int refine_steps = 0;
   int refine_row_step = 2;
   LimbMode limbs = LimbMode::Fixed;  // config [cvsm] limbs
+  HeadingRange heading = HeadingRange::Fixed;  // config [cvsm] heading
   // Tuning, articulated limbs only: evaluations of the limbs' search per
   // tracked pair (the trunk held), then of the trunk's search again with
   // the limbs held (the joint refinement; 0: none).

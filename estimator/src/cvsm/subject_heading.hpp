@@ -1,0 +1,78 @@
+#pragma once
+// Which way the subject faces (docs/cvsm.md, "Heading"): the full circle
+// tried when the subject model is started and at every (re)acquisition,
+// both views together deciding front from back.
+#include <cstdint>
+#include <vector>
+
+#include "spinewatch/estimator/cvsm/heading_range.hpp"
+
+#include "subject_estimate.hpp"
+
+namespace spinewatch::cvsm_detail {
+
+// Headings tried around the full circle, degrees apart.
+inline constexpr double kHeadingProbeDeg = 30;
+
+// The headings probed round the circle: every kHeadingProbeDeg from
+// `around` (Any), or the front half only, −90…90° (Front).
+std::vector<double> heading_probes(HeadingRange range, double around);
+// Whether a heading is one the range lets the subject face.
+bool heading_allowed(HeadingRange range, double heading_deg);
+
+// With the front range, the station as installed: the worker faces the
+// frontal camera, and another heading is taken only when it explains this
+// fraction more of the silhouettes' pixels than facing it does — twenty
+// times the cost's pair-to-pair noise (kHeadingMarginFraction). A body the
+// model draws badly (a box carried, a cluttered room) costs a third or more
+// of its silhouettes at every heading, and there a turn of 30° won by 3–4 %
+// (docs/cvsm.md, "Heading"); a subject really turned 30° wins by 9 %, 90° by
+// 40 %. The full circle has no such preference: a subject with his back to
+// the frontal camera beats facing it by only 1.4–2.1 %.
+inline constexpr double kFrontPreferenceFraction = 0.05;
+// The cost `heading_deg` must reach to be taken over facing the frontal
+// camera at `facing_cost`: the cost itself where the range has no
+// preference or the heading faces the camera.
+std::int64_t cost_to_beat_facing(HeadingRange range, double heading_deg, std::int64_t facing_cost,
+                                 std::int64_t silhouette_px);
+
+// Angular distance of two headings, 0…180°.
+double heading_apart(double a, double b);
+// A heading in (−180, 180].
+double wrapped_heading(double heading_deg);
+
+// The pose turned to `heading_deg` about its hip joints, its translation
+// moved so the trunk's centre line stays where it is (the silhouettes
+// measured it, whichever way the body faces).
+CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const CvsmPose& pose, double heading_deg);
+
+// The XOR of one standing subject moves by 0.2–0.3 % of the silhouettes'
+// pixels from pair to pair with the same pose (sensor noise, flicker).
+// Four times that: two headings closer in cost are not told apart, and a
+// step of the heading is taken only when it gains more (docs/cvsm.md,
+// "Heading"). A few degrees of heading draw nearly the outline of a few
+// degrees of axial twist; at a quarter of this the heading followed the
+// twist and the twist's published value went wrong.
+inline constexpr double kHeadingMarginFraction = 0.01;
+
+struct HeadingChoice {
+  int evaluations = 0;
+  // The best cost of a heading 90° or more from the chosen one minus the
+  // chosen one's, in the cost's pixels: how clearly the views tell this
+  // side from the other.
+  std::int64_t margin_px = 0;
+  std::int64_t silhouette_px = 0;  // both views, in the same pixels
+  bool resolved() const {
+    return static_cast<double>(margin_px) >= kHeadingMarginFraction * static_cast<double>(silhouette_px);
+  }
+};
+
+// The subject's heading from its first pair: every kHeadingProbeDeg, the
+// estimate turned there and its shape refined (`budget_each` evaluations);
+// the best heading then settled alone to a degree. Only the heading (and
+// the translation that keeps the trunk in place) is kept in `subject`:
+// its shape is refined as before, at that heading.
+HeadingChoice choose_heading(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                             HeadingRange range, int budget_each = 60);
+
+}  // namespace spinewatch::cvsm_detail
