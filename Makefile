@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
 export CTEST_PARALLEL_LEVEL ?= $(JOBS)
 
-.PHONY: all deps build deb demo test test-release test-asan test-fuzz fuzz bench clean
+.PHONY: all deps build deb demo test test-release test-asan test-fuzz test-arm64 fuzz bench clean
 
 all: build
 
@@ -27,7 +27,7 @@ deb: deps
 demo: build
 	scripts/demo
 
-test: deps test-release test-asan test-fuzz
+test: deps test-release test-asan test-fuzz test-arm64
 
 test-release:
 	cmake --workflow --preset release
@@ -39,6 +39,12 @@ test-asan:
 # time under ctest (docs/testing.md, "Fuzzing").
 test-fuzz:
 	cmake --workflow --preset fuzz
+
+# The libraries, spinewatchd, spinewatch and the unit tests cross-built for
+# aarch64 against the arm64 sysroot (scripts/arm64-sysroot); the tests
+# labelled arm64 run under qemu-user (docs/testing.md, "arm64").
+test-arm64:
+	cmake --workflow --preset arm64
 
 # The same harnesses run long: 10^6 executions each, one at a time.
 fuzz: deps
