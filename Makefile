@@ -16,12 +16,20 @@ build: deps
 	cmake --build --preset release
 
 # The Debian package of this machine's architecture (amd64 here, arm64 on a
-# Pi): build/release/spinewatch_<version>-1_<arch>.deb. Builds only what it
-# packages (docs/hardware.md, "Installing from the package").
+# Pi): build/release/spinewatch_<version>-1_<arch>.deb; on any other machine
+# also the arm64 one, cross-built: build/arm64/spinewatch_<version>-1_arm64.deb.
+# Builds only what it packages (docs/hardware.md, "Installing from the package").
+HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
+
 deb: deps
 	cmake --preset release
 	cmake --build --preset release --target spinewatchd spinewatch
 	cpack --config build/release/CPackConfig.cmake -B build/release
+ifneq ($(HOST_ARCH),arm64)
+	cmake --preset arm64
+	cmake --build --preset arm64 --target spinewatchd spinewatch
+	cpack --config build/arm64/CPackConfig.cmake -B build/arm64
+endif
 
 # The main job on the embedded default: see README.md, "What the demo shows".
 demo: build
