@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
 export CTEST_PARALLEL_LEVEL ?= $(JOBS)
 
-.PHONY: all deps build deb demo test test-release test-asan test-fuzz fuzz bench clean
+.PHONY: all deps build deb demo test test-release test-asan test-fuzz test-arm64 fuzz bench clean
 
 all: build
 
@@ -16,18 +16,26 @@ build: deps
 	cmake --build --preset release
 
 # The Debian package of this machine's architecture (amd64 here, arm64 on a
-# Pi): build/release/spinewatch_<version>-1_<arch>.deb. Builds only what it
-# packages (docs/hardware.md, "Installing from the package").
+# Pi): build/release/spinewatch_<version>-1_<arch>.deb; on any other machine
+# also the arm64 one, cross-built: build/arm64/spinewatch_<version>-1_arm64.deb.
+# Builds only what it packages (docs/hardware.md, "Installing from the package").
+HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
+
 deb: deps
 	cmake --preset release
 	cmake --build --preset release --target spinewatchd spinewatch
 	cpack --config build/release/CPackConfig.cmake -B build/release
+ifneq ($(HOST_ARCH),arm64)
+	cmake --preset arm64
+	cmake --build --preset arm64 --target spinewatchd spinewatch
+	cpack --config build/arm64/CPackConfig.cmake -B build/arm64
+endif
 
 # The main job on the embedded default: see README.md, "What the demo shows".
 demo: build
 	scripts/demo
 
-test: deps test-release test-asan test-fuzz
+test: deps test-release test-asan test-fuzz test-arm64
 
 test-release:
 	cmake --workflow --preset release
@@ -39,6 +47,12 @@ test-asan:
 # time under ctest (docs/testing.md, "Fuzzing").
 test-fuzz:
 	cmake --workflow --preset fuzz
+
+# The libraries, spinewatchd, spinewatch and the unit tests cross-built for
+# aarch64 against the arm64 sysroot (scripts/arm64-sysroot); the tests
+# labelled arm64 run under qemu-user (docs/testing.md, "arm64").
+test-arm64:
+	cmake --workflow --preset arm64
 
 # The same harnesses run long: 10^6 executions each, one at a time.
 fuzz: deps

@@ -3,8 +3,14 @@
 # The architecture is the building machine's (dpkg --print-architecture),
 # so the same command makes the amd64 package here and the arm64 one on a
 # Pi. The maintainer scripts live in packaging/deb.
+# A cross build (the arm64 preset) packages for its target: the Debian
+# architecture of the toolchain's GNU triplet.
 find_program(SPINEWATCH_DPKG dpkg)
-if(SPINEWATCH_DPKG)
+find_program(SPINEWATCH_DPKG_ARCHITECTURE dpkg-architecture)
+if(CMAKE_CROSSCOMPILING AND SPINEWATCH_DPKG_ARCHITECTURE)
+  execute_process(COMMAND ${SPINEWATCH_DPKG_ARCHITECTURE} --host-type ${CMAKE_LIBRARY_ARCHITECTURE} --query DEB_HOST_ARCH
+    OUTPUT_VARIABLE SPINEWATCH_DEB_ARCHITECTURE OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+elseif(SPINEWATCH_DPKG)
   execute_process(COMMAND ${SPINEWATCH_DPKG} --print-architecture
     OUTPUT_VARIABLE SPINEWATCH_DEB_ARCHITECTURE OUTPUT_STRIP_TRAILING_WHITESPACE)
 endif()
@@ -39,6 +45,18 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # systemctl and systemd-sysusers, which the maintainer scripts use.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd")
+# Cross-built programs: this machine's dpkg knows no arm64 library, so
+# CPack's own dpkg-shlibdeps run would fail. PackagingChecks.cmake runs it
+# instead on the two programs, finding the libraries in the sysroot and
+# their packages in the shlibs files scripts/arm64-sysroot kept.
+if(CMAKE_CROSSCOMPILING)
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS OFF)
+  set(CPACK_SPINEWATCH_SYSROOT ${CMAKE_SYSROOT})
+  set(CPACK_SPINEWATCH_MULTIARCH ${CMAKE_LIBRARY_ARCHITECTURE})
+  set(CPACK_SPINEWATCH_PROGRAMS_FILE ${CMAKE_BINARY_DIR}/packaging/programs.cmake)
+  file(GENERATE OUTPUT ${CPACK_SPINEWATCH_PROGRAMS_FILE}
+       CONTENT "set(spinewatch_programs \"$<TARGET_FILE:spinewatchd>\" \"$<TARGET_FILE:spinewatch>\")\n")
+endif()
 
 # The maintainer scripts and the conffile list name the installed paths.
 set(SPINEWATCH_CONFIG_DIR ${CMAKE_INSTALL_FULL_SYSCONFDIR}/spinewatch)
