@@ -3,23 +3,19 @@
 // tracked by the CVSM from their images alone. What is published as
 // tracking is right (no vertebra more than 50 mm from the truth, the issue's
 // "confidently wrong" line) and the heading found is the rendered one.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
-#include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/phantom/phantom.hpp"
+#include "phantom_run.hpp"
 
 namespace spinewatch {
 namespace {
 
-struct HeadingRun {
-  int person_frames = 0, tracking = 0, wrong = 0;
-  double worst_mm = 0;          // the farthest vertebra of any tracking pair
-  double worst_heading_deg = 0;  // the farthest tracked heading from the rendered one
+struct HeadingRun : test::TrustRun {
+  double worst_heading_deg = 0;        // the farthest tracked heading from the rendered one
   double farthest_from_front_deg = 0;  // the farthest tracked heading from facing the frontal camera
 };
 
@@ -29,40 +25,21 @@ double apart_deg(double a, double b) {
 }
 
 HeadingRun run_turned(double heading_deg, LimbMode limbs, HeadingRange range) {
-  HeadingRun run;
-  auto subject = phantom::load_subject(test::source_dir() + "/config/subjects/ansur-15936.json");
-  EXPECT_TRUE(subject.ok()) << subject.error().message;
-  if (!subject.ok()) return run;
   phantom::PhantomOptions po;
   po.scenario = "flexion";
-  po.subject = *subject;
+  po.subject = test::load_named_subject("ansur-15936");
   po.frames = 24;  // 10 build the subject model, 14 bend forward
   po.seed = 2;
   po.heading_deg = heading_deg;
-  auto seq = phantom::PhantomSequence::create(po);
-  EXPECT_TRUE(seq.ok()) << seq.error().message;
-  if (!seq.ok()) return run;
-  auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
-  SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
   CvsmOptions options;
   options.limbs = limbs;
   options.heading = range;
-  CvsmTracker tracker(po.rig, options);
-  for (int i = 0; i < seq->frame_count(); ++i) {
-    const phantom::PhantomFrame f = seq->render(i);
-    const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
-    if (!f.truth.vertebrae) continue;
-    ++run.person_frames;
-    if (r.state != TrackingState::Tracking) continue;
-    ++run.tracking;
-    double worst = 0;
-    for (std::size_t k = 0; k < kVertebraCount; ++k)
-      worst = std::max(worst, (r.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm());
-    run.worst_mm = std::max(run.worst_mm, worst);
-    if (worst > 50) ++run.wrong;
-    run.worst_heading_deg = std::max(run.worst_heading_deg, apart_deg(r.pose.heading, heading_deg));
-    run.farthest_from_front_deg = std::max(run.farthest_from_front_deg, apart_deg(r.pose.heading, 0));
-  }
+  HeadingRun run;
+  static_cast<test::TrustRun&>(run) =
+      test::track_for_trust(po, options, "heading " + std::to_string(heading_deg), [&](const phantom::PhantomFrame&, const CvsmResult& r) {
+        run.worst_heading_deg = std::max(run.worst_heading_deg, apart_deg(r.pose.heading, heading_deg));
+        run.farthest_from_front_deg = std::max(run.farthest_from_front_deg, apart_deg(r.pose.heading, 0));
+      });
   return run;
 }
 

@@ -4,67 +4,22 @@
 // estimator's default (measured) spine placement, bending forward under
 // the phantom's station geometries, rendered in memory and fitted frame by
 // frame from its silhouettes.
-#include <algorithm>
-#include <cstdio>
-#include <string>
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
-#include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/phantom/phantom.hpp"
+#include "phantom_run.hpp"
 
 namespace spinewatch {
 namespace {
 
-// A tracking posture with a vertebra farther than this from the truth is
-// confidently wrong (issue 31).
-constexpr double kWrongMm = 50;
-
-struct GeometryRun {
-  int person_frames = 0, tracking = 0, lost = 0;
-  int wrong = 0;           // tracking postures with a vertebra > kWrongMm off
-  double worst_mm = 0;     // of any vertebra of any tracking posture
-  double neck_sum = 0;     // over the tracking postures
-  double neck_mean() const { return tracking > 0 ? neck_sum / tracking : 0.0; }
-};
-
 // `frames` person frames of flexion after the ten empty ones, seed 1.
-GeometryRun run_station(const phantom::StationGeometry& geometry, int frames, const CvsmOptions& options = {}) {
-  GeometryRun run;
-  auto subject = phantom::load_subject(test::source_dir() + "/config/subjects/ansur-15936.json");
-  EXPECT_TRUE(subject.ok()) << subject.error().message;
-  if (!subject.ok()) return run;
+test::TrustRun run_station(const phantom::StationGeometry& geometry, int frames, const CvsmOptions& options = {}) {
   phantom::PhantomOptions po;
   po.scenario = "flexion";
-  po.subject = *subject;
+  po.subject = test::load_named_subject("ansur-15936");
   po.frames = frames;
   po.station = geometry;
-  auto seq = phantom::PhantomSequence::create(po);
-  EXPECT_TRUE(seq.ok()) << seq.error().message;
-  if (!seq.ok()) return run;
-  auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
-  SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
-  CvsmTracker tracker(seq->options().rig, options);
-  for (int i = 0; i < seq->frame_count(); ++i) {
-    const phantom::PhantomFrame f = seq->render(i);
-    const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
-    if (!f.truth.neck) continue;  // an empty frame
-    ++run.person_frames;
-    if (r.state == TrackingState::Lost) ++run.lost;
-    if (r.state != TrackingState::Tracking) continue;
-    ++run.tracking;
-    double worst = 0;
-    for (std::size_t v = 0; v < kVertebraCount; ++v)
-      worst = std::max(worst, (r.vertebrae[v].body_center - (*f.truth.vertebrae)[v].body_center).norm());
-    run.worst_mm = std::max(run.worst_mm, worst);
-    run.wrong += worst > kWrongMm;
-    run.neck_sum += (r.neck - *f.truth.neck).norm();
-  }
-  std::printf("tracking %d / lost %d of %d person frames; neck mean %.1f mm; worst vertebra %.0f mm (%d > %.0f)\n",
-              run.tracking, run.lost, run.person_frames, run.neck_mean(), run.worst_mm, run.wrong, kWrongMm);
-  return run;
+  return test::track_for_trust(po, options, "flexion");
 }
 
 TEST(StationGeometry, RolledCamerasTrackTheBendWithoutAConfidentlyWrongPosture) {
@@ -74,7 +29,7 @@ TEST(StationGeometry, RolledCamerasTrackTheBendWithoutAConfidentlyWrongPosture) 
   // 85–98 mm off.
   phantom::StationGeometry geometry;
   geometry.roll_deg = 25;
-  const GeometryRun run = run_station(geometry, 30);
+  const test::TrustRun run = run_station(geometry, 30);
   ASSERT_EQ(run.person_frames, 30);
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
   EXPECT_GE(run.tracking, 21);  // every pair after the subject model's nine init pairs
@@ -88,7 +43,7 @@ TEST(StationGeometry, RolledCamerasWithArticulatedLimbs) {
   geometry.roll_deg = 25;
   CvsmOptions options;
   options.limbs = LimbMode::Articulated;
-  const GeometryRun run = run_station(geometry, 30, options);
+  const test::TrustRun run = run_station(geometry, 30, options);
   ASSERT_EQ(run.person_frames, 30);
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
   EXPECT_GE(run.tracking, 21);
@@ -104,7 +59,7 @@ TEST(StationGeometry, SteepCamerasKeepTheirShareAndAreNeverConfidentlyWrong) {
   // rectification leaves this fit as it was.
   phantom::StationGeometry geometry;
   geometry.tilt_deg = 45;
-  const GeometryRun run = run_station(geometry, 30);
+  const test::TrustRun run = run_station(geometry, 30);
   ASSERT_EQ(run.person_frames, 30);
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
   EXPECT_GE(run.tracking, 19);
