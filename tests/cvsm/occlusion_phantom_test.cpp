@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "phantom_run.hpp"
+#include "trust_run.hpp"
 
 namespace spinewatch {
 namespace {
