@@ -105,13 +105,6 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
       facing_silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
     }
   }
-  // The front range prefers facing the frontal camera (kFrontPreferenceFraction).
-  if (facing_cost != INT64_MAX &&
-      best_cost >= cost_to_beat_facing(range, best.pose.heading, facing_cost, facing_silhouette_px)) {
-    best = facing;
-    best_cost = facing_cost;
-    choice.silhouette_px = facing_silhouette_px;
-  }
   // Between the probes: the heading alone, halving steps from a quarter
   // of their spacing down to a degree, each past the cost's noise.
   const BodyModel best_model = build(best, spec, spine);
@@ -129,6 +122,15 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
         break;
       }
     }
+  // The front range prefers facing the frontal camera (kFrontPreferenceFraction),
+  // judged on the settled heading: a few degrees' turn must win as much as
+  // a probe's.
+  if (facing_cost != INT64_MAX &&
+      best_cost >= cost_to_beat_facing(range, best.pose.heading, facing_cost, facing_silhouette_px)) {
+    best = facing;
+    best_cost = facing_cost;
+    choice.silhouette_px = facing_silhouette_px;
+  }
   std::int64_t other_side = INT64_MAX;
   for (const Tried& t : tried)
     if (heading_apart(t.heading, best.pose.heading) >= 90) other_side = std::min(other_side, t.cost);

@@ -355,6 +355,18 @@ struct CvsmTracker::Impl {
         pose = trial;
       }
     }
+    // The front range keeps a turn only while it wins by the preference
+    // for facing the frontal camera (subject_heading.hpp), judged every pair.
+    if (opt.heading == HeadingRange::Front && cvsm_detail::wrapped_heading(pose.heading) != 0) {
+      CvsmPose facing = pose;
+      facing.heading = 0;
+      const std::int64_t facing_cost = cost_of(facing, a, INT64_MAX);
+      const std::int64_t turned_cost = best < current_cost - gain ? best : current_cost;
+      if (turned_cost >= cvsm_detail::cost_to_beat_facing(opt.heading, pose.heading, facing_cost,
+                                                          static_cast<std::int64_t>(static_cast<double>(silhouette_px) / cost->row_step())))
+        pose = facing;
+      return 3;
+    }
     return 2;
   }
 
