@@ -250,6 +250,20 @@ TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated");
 }
 
+// cvsm.heading reaches the estimator, "fixed" by default (its effect on the
+// fit: tests/cvsm/heading_test.cpp, CvsmHeading.*).
+TEST(Config, HeadingReachesTheEstimatorFixedByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.heading, HeadingRange::Fixed);
+  for (const auto& [text, range] : {std::pair{"front", HeadingRange::Front}, std::pair{"any", HeadingRange::Any}}) {
+    auto on = parse_config(std::string("[cvsm]\nheading = \"") + text + "\"\n", "s.toml");
+    ASSERT_TRUE(on) << on.error().message;
+    EXPECT_EQ(estimator_options(*on).cvsm.heading, range) << text;
+  }
+  auto bad = parse_config("[cvsm]\nheading = \"back\"\n", "s.toml");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.heading: \"back\" is not one of: fixed, front, any");
+}
+
 TEST(Config, AKnownWorkersStatureAndMassReachTheEstimatorAndZeroIsNotKnown) {
   const EstimatorOptions unknown = estimator_options(*parse_config("", "s.toml"));
   EXPECT_EQ(known_worker(unknown.subject), KnownWorker{}) << "by default the worker is not known";
