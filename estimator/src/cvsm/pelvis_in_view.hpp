@@ -1,0 +1,28 @@
+#pragma once
+// Whether a view shows the subject's pelvis (docs/cvsm.md, "Pelvis out of
+// the picture"). A worker seated close to a camera fills its picture from
+// the head down and the image ends at his chest: his silhouette runs into
+// the image's bottom edge, and below it the view says nothing. The waist
+// (L5) is placed by the pelvis's outline and the legs' direction; where
+// neither view shows them, the fit puts the waist where the model's
+// proportions carry it from the shoulders, and on the shared real footage's
+// own geometry that was 84 mm off the truth on every pair while the cost
+// said the fit stood. A head or feet cut by the image are no such case: the
+// pelvis is in view above them.
+#include "spinewatch/estimator/camera_model.hpp"
+#include "spinewatch/estimator/cvsm/body_model.hpp"
+#include "spinewatch/estimator/silhouette/bit_mask.hpp"
+
+namespace spinewatch::cvsm_detail {
+
+// The view does not show the pelvis: the silhouette reaches the image's
+// bottom row on at least kPelvisCutMinPx pixels, and both hip joints of the
+// model at `vertebrae` (its fitted spine) project below that row.
+bool pelvis_below_view(const CameraModel& camera, const BitMask& silhouette, const BodyModel& model,
+                       const SpinePose& vertebrae);
+
+// The silhouette on the bottom row that counts as cut there, not a stray
+// pixel of noise (a tenth of the 320-pixel row is a trunk cut by it).
+inline constexpr int kPelvisCutMinPx = 8;
+
+}  // namespace spinewatch::cvsm_detail
