@@ -634,14 +634,14 @@ struct CvsmTracker::Impl {
     return r;
   }
 
-  // Neither view shows the pelvis — each ends above it (the image's bottom
-  // edge, docs/cvsm.md, "Pelvis out of the picture") or an occluder hides
+  // Neither view shows the pelvis — each ends before it (an edge of the
+  // image, docs/cvsm.md, "Pelvis out of the picture") or an occluder hides
   // it: the waist rests on the model's proportions, not on the views. Not
   // published as tracking, as with the occluder alone above.
   void withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const {
     if (r.state != TrackingState::Tracking) return;
-    if (!hiding[0] && !cvsm_detail::pelvis_below_view(rig.frontal, frontal, model, r.vertebrae)) return;
-    if (!hiding[1] && !cvsm_detail::pelvis_below_view(rig.lateral, lateral, model, r.vertebrae)) return;
+    if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return;
+    if (!hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae)) return;
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
   }
