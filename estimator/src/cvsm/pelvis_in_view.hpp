@@ -6,7 +6,7 @@
 // (L5) is placed by the pelvis's outline and the legs' direction; where
 // neither view shows them, the fit puts the waist where the model's
 // proportions carry it from the shoulders, and on the shared real footage's
-// own geometry that was 84 mm off the truth on every pair while the cost
+// own geometry that was 84–105 mm off the truth on every pair while the cost
 // said the fit stood. A head or feet cut by the image are no such case: the
 // pelvis is in view above them.
 #include <optional>
