@@ -86,12 +86,17 @@ TEST(CvsmHeading, TheFrontRangeKeepsASeatedWorkerBehindADeskFacingTheCamera) {
   po.desk = true;
   CvsmOptions options;
   options.heading = HeadingRange::Front;
+  // The desk hides his lower body in both views: the pairs are lost
+  // (lower_body_hidden) but fitted, and the fit goes on from each: its
+  // heading is judged on all of them.
   double farthest = 0;
-  const test::TrustRun run = test::track_for_trust(po, options, "typing at the desk, front range",
+  int fitted = 0;
+  const test::TrustRun run = test::track_for_trust(po, options, "typing at the desk, front range", {},
                                                    [&](const phantom::PhantomFrame&, const CvsmResult& r) {
+                                                     ++fitted;
                                                      farthest = std::max(farthest, apart_deg(r.pose.heading, 0));
                                                    });
-  ASSERT_GT(run.tracking, 0);
+  ASSERT_GT(fitted, 12);
   EXPECT_EQ(farthest, 0.0);
   EXPECT_EQ(run.wrong, 0);
 }

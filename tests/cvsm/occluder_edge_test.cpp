@@ -7,6 +7,7 @@
 
 #include "cvsm_fixtures.hpp"
 #include "occluder_edge.hpp"
+#include "pelvis_in_view.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
@@ -154,6 +155,48 @@ TEST(XorCost, HiddenPixelsAreNotCountedLikeTheReference) {
     }
   }
   EXPECT_GT(differs_from_unhidden, 30);  // the hidden rows held model pixels
+}
+
+// The pelvis out of the picture (estimator/src/cvsm/pelvis_in_view.hpp):
+// a seated subject's spine moved down until its hips project below the
+// image, against a silhouette that runs into the bottom row or ends above it.
+TEST(PelvisInView, OutOnlyWhereTheHipsProjectBeyondTheEdgeTheSilhouetteRunsInto) {
+  using cvsm_detail::pelvis_out_of_view;
+  const CameraRig rig = CameraRig::default_rig();
+  const BodyModel model = other_subject(SubjectPosture::Seated);
+  const SpinePose seated = pose_vertebrae(model, generic_spine_spec(), CvsmPose{});
+  const Views views = render(rig, model, CvsmPose{});
+  // In view: the whole seated body is in the picture.
+  EXPECT_FALSE(pelvis_out_of_view(rig.frontal, views.frontal, model, seated));
+  EXPECT_FALSE(pelvis_out_of_view(rig.lateral, views.lateral, model, seated));
+  SpinePose low = seated;
+  for (auto& v : low) v.body_center.y() -= 2000;  // the hips far below the image
+  BitMask cut(kW, kH);
+  for (int y = 100; y < kH; ++y) cut.set_span(y, 120, 200);  // a trunk the bottom edge cuts
+  BitMask ends(kW, kH);
+  for (int y = 100; y < kH - 1; ++y) ends.set_span(y, 120, 200);  // ... that ends one row above it
+  BitMask speck(kW, kH);
+  speck.set_span(kH - 1, 150, 150 + cvsm_detail::kPelvisCutMinPx - 2);  // noise on the bottom row
+  for (const CameraModel* camera : {&rig.frontal, &rig.lateral}) {
+    EXPECT_TRUE(pelvis_out_of_view(*camera, cut, model, low));
+    EXPECT_FALSE(pelvis_out_of_view(*camera, ends, model, low));
+    EXPECT_FALSE(pelvis_out_of_view(*camera, speck, model, low));
+    EXPECT_FALSE(pelvis_out_of_view(*camera, cut, model, seated));  // cut, but the hips are in the picture
+    EXPECT_FALSE(pelvis_out_of_view(*camera, BitMask{}, model, low));
+  }
+}
+
+TEST(PelvisInView, TheEdgeAPointIsFarthestBeyond) {
+  using cvsm_detail::edge_beyond;
+  using cvsm_detail::ImageEdge;
+  EXPECT_FALSE(edge_beyond({0, 0}, kW, kH));
+  EXPECT_FALSE(edge_beyond({kW - 1, kH - 1}, kW, kH));
+  EXPECT_EQ(edge_beyond({100, kH}, kW, kH), ImageEdge::Bottom);
+  EXPECT_EQ(edge_beyond({100, -1}, kW, kH), ImageEdge::Top);
+  EXPECT_EQ(edge_beyond({-1, 100}, kW, kH), ImageEdge::Left);
+  EXPECT_EQ(edge_beyond({kW, 100}, kW, kH), ImageEdge::Right);
+  // A camera on its side: the body runs out to the left, a little below too.
+  EXPECT_EQ(edge_beyond({-50, kH + 10}, kW, kH), ImageEdge::Left);
 }
 
 }  // namespace

@@ -30,10 +30,12 @@ struct TrustRun {
 using TrackedFrame = std::function<void(const phantom::PhantomFrame& frame, const CvsmResult& result)>;
 
 // The render of `po` (its station geometry, heading, desk …) fitted pair by
-// pair from its silhouettes alone; `each` also sees every tracking pair.
+// pair from its silhouettes alone; `each` also sees every tracking pair,
+// `each_fitted` every person pair the fit estimated (tracking, init, and
+// lost pairs the fit went on from, e.g. lower_body_hidden).
 // `what` names the run in the line it prints.
 inline TrustRun track_for_trust(const phantom::PhantomOptions& po, const CvsmOptions& options, const std::string& what,
-                                const TrackedFrame& each = {}) {
+                                const TrackedFrame& each = {}, const TrackedFrame& each_fitted = {}) {
   TrustRun run;
   auto seq = phantom::PhantomSequence::create(po);
   EXPECT_TRUE(seq.ok()) << seq.error().message;
@@ -46,6 +48,7 @@ inline TrustRun track_for_trust(const phantom::PhantomOptions& po, const CvsmOpt
     const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
     if (!f.truth.vertebrae) continue;  // an empty frame
     ++run.person_frames;
+    if (each_fitted && r.estimated) each_fitted(f, r);
     if (r.state == TrackingState::Lost) ++run.lost;
     if (r.state != TrackingState::Tracking) continue;
     ++run.tracking;

@@ -5,6 +5,7 @@
 
 #include "coordinate_search.hpp"
 #include "occluder_edge.hpp"
+#include "pelvis_in_view.hpp"
 #include "outline_fit.hpp"
 #include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
@@ -567,6 +568,7 @@ struct CvsmTracker::Impl {
       if (init_frames >= opt.subject_frames && heading_resolved) {
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
+        withhold_unseen_pelvis(frontal, lateral, r);
       }
       return r;
     }
@@ -628,7 +630,20 @@ struct CvsmTracker::Impl {
       r.state = TrackingState::Lost;
       if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
     }
+    withhold_unseen_pelvis(frontal, lateral, r);
     return r;
+  }
+
+  // Neither view shows the pelvis — each ends before it (an edge of the
+  // image, docs/cvsm.md, "Pelvis out of the picture") or an occluder hides
+  // it: the waist rests on the model's proportions, not on the views. Not
+  // published as tracking, as with the occluder alone above.
+  void withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const {
+    if (r.state != TrackingState::Tracking) return;
+    if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return;
+    if (!hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae)) return;
+    r.state = TrackingState::Lost;
+    if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
   }
 
   int cost_width = 0, cost_height = 0;

@@ -362,6 +362,12 @@ Posture PostureEstimator::process(const FramePair& pair) {
   }
   // Learning the background: no posture to give, not even a provisional one.
   if (!fit.estimated) return posture;
+  // A provisional posture only from a fit that stands: beyond lost_cost the
+  // model does not lie on the silhouettes (every init fit of the phantom
+  // costs 0.21 at most; hands and a board whose trunk is in the background
+  // cost 0.8–1.2), and the posture is null as a lost pair's would be
+  // (docs/cvsm.md, "Real footage").
+  if (fit.state == TrackingState::Init && fit.fit.cost > m.options.cvsm.lost_cost) return posture;
   posture.neck_dir = fit.neck_dir;
   posture.waist_dir = fit.waist_dir;
   if (fit.state == TrackingState::Init) {

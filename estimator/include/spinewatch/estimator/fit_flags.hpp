@@ -10,10 +10,11 @@ namespace spinewatch {
 // sign the fit cannot tell (docs/cvsm.md, "Axial twist").
 inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
 
-// A pair whose silhouettes both end on an occluder's edge (a desk the
-// background holds) above the floor: neither view sees the legs, so the
-// waist is not pinned and the pair is lost (docs/cvsm.md, "Occluded lower
-// body").
+// A pair neither of whose views shows the pelvis: each silhouette ends on
+// an occluder's edge (a desk the background holds) above the floor, or runs
+// into an edge of the image with the fitted hips beyond it; the waist is not
+// pinned and the pair is lost (docs/cvsm.md, "Occluded lower body", "Pelvis
+// out of the picture").
 inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
 
 // Not a pair: a camera went away here; one lost posture marks the gap.
