@@ -67,6 +67,7 @@ std::string bootstrap_stall_reason(const BootstrapAttempt& a, const BootstrapOpt
 CvsmOptions cvsm_options(const EstimatorOptions& o) {
   CvsmOptions c;
   c.subject_frames = o.cvsm.subject_frames;
+  c.provisional_frames = o.cvsm.provisional_frames;
   c.lost_cost = o.cvsm.lost_cost;
   c.refine_steps = o.cvsm.refine_steps;
   c.limbs = o.cvsm.limbs;
@@ -148,12 +149,18 @@ struct PostureEstimator::Impl {
   void set_worker(const KnownWorker& worker) {
     set_known_worker(options.subject, worker);
     tracker = CvsmTracker(rig, cvsm_options(options));
+    drop_spine_model();
+    for (Gate& g : gates) g.active = false;
+  }
+
+  // The accurate model, its dynamics and the ergonomics measured against
+  // its neutral: built again (ensure_spine_model) from the next tracked fit.
+  void drop_spine_model() {
     spine_model.reset();
     dynamics.reset();
     ergonomics.reset();
     dynamics_reset_pending = true;
     previous_t_ns.reset();
-    for (Gate& g : gates) g.active = false;
   }
 
   // The frames' size is known with the first pair: then each view learns
@@ -191,7 +198,9 @@ struct PostureEstimator::Impl {
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
     if (const auto body = worker_body()) load_params.body_mass_kg = body->mass_kg;
-    if (const auto body = worker_body()) {
+    if (spine_model_provisional) {
+      spdlog::debug("estimator: provisional subject model: tracking while it is being built");
+    } else if (const auto body = worker_body()) {
       spdlog::info("estimator: subject model built (stature {:.0f} mm {}, mass {:.1f} kg {})", body->stature_mm,
                    to_string(body->stature_source), body->mass_kg, to_string(body->mass_source));
       if (body->rejected_stature_mm)
@@ -273,6 +282,7 @@ struct PostureEstimator::Impl {
   SilhouetteExtractor silhouettes[2];
   CvsmTracker tracker;
   std::optional<SpineModel> spine_model;
+  bool spine_model_provisional = false;  // built on a subject model still being built
   std::optional<SpineDynamics> dynamics;
   bool dynamics_reset_pending = true;  // after start and after every lost pair
   std::optional<ErgonomicsMonitor> ergonomics;
@@ -373,6 +383,12 @@ Posture PostureEstimator::process(const FramePair& pair) {
     return posture;
   }
 
+  // A fit on the subject model still being built (docs/cvsm.md,
+  // "Provisional model") drives an accurate model built on it; once the
+  // subject model is complete, the accurate model and what rests on it are
+  // built again from the complete one, as when nothing was provisional.
+  if (m.dynamics && m.spine_model_provisional && !fit.provisional) m.drop_spine_model();
+  if (!m.dynamics) m.spine_model_provisional = fit.provisional;
   m.ensure_spine_model();
   if (m.dynamics_reset_pending) {
     // Warm start from the CVSM's own vertebrae, then continue incrementally.
