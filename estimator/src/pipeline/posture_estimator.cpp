@@ -163,6 +163,30 @@ struct PostureEstimator::Impl {
     previous_t_ns.reset();
   }
 
+  // Someone in view after the scene was empty for [cvsm] new_subject_after_s:
+  // the station cannot tell who came back, and another person fitted with
+  // the last one's model is confidently wrong (a taller man after a shorter
+  // one: every posture 57–68 mm off; docs/cvsm.md, "Provisional model"). So
+  // the subject model is built afresh, tracking again from its provisional
+  // pairs; a shorter absence keeps it.
+  void start_new_subject_after_empty_scene(SilhouetteStatus frontal, SilhouetteStatus lateral, std::int64_t t_ns) {
+    auto someone = [](SilhouetteStatus s) {
+      return s != SilhouetteStatus::NoPerson && s != SilhouetteStatus::LearningBackground &&
+             s != SilhouetteStatus::NoBackground;
+    };
+    if (!someone(frontal) || !someone(lateral)) return;
+    const double limit_s = options.cvsm.new_subject_after_s;
+    if (last_person_ns && limit_s > 0 && double(t_ns - *last_person_ns) * 1e-9 >= limit_s && tracker.subject_model()) {
+      spdlog::info("estimator: someone in view after {:.1f} s without anyone: the subject model is built afresh",
+                   double(t_ns - *last_person_ns) * 1e-9);
+      tracker.reset();
+      drop_spine_model();
+      for (Gate& g : gates) g.active = false;
+    }
+    last_person_ns = t_ns;
+  }
+  std::optional<std::int64_t> last_person_ns;  // the last pair with someone in both views
+
   // The frames' size is known with the first pair: then each view learns
   // where the subject can be, for bootstrapping a background.
   void ensure_person_priors(int width, int height) {
@@ -348,6 +372,7 @@ Posture PostureEstimator::process(const FramePair& pair) {
   m.last_silhouettes[1] = m.silhouettes[1].extract(pair.lateral.luma(), m.gate(1));
   const SilhouetteResult& frontal = m.last_silhouettes[0];
   const SilhouetteResult& lateral = m.last_silhouettes[1];
+  m.start_new_subject_after_empty_scene(frontal.status, lateral.status, pair.timestamp_ns);
   m.last_fit = m.tracker.track(frontal, lateral);
   m.processed = true;
   m.update_gates();
