@@ -86,14 +86,27 @@ TEST(CvsmHeading, TheFrontRangeKeepsASeatedWorkerBehindADeskFacingTheCamera) {
   po.desk = true;
   CvsmOptions options;
   options.heading = HeadingRange::Front;
-  double farthest = 0;
-  const test::TrustRun run = test::track_for_trust(po, options, "typing at the desk, front range",
-                                                   [&](const phantom::PhantomFrame&, const CvsmResult& r) {
-                                                     farthest = std::max(farthest, apart_deg(r.pose.heading, 0));
-                                                   });
-  ASSERT_GT(run.tracking, 0);
-  EXPECT_EQ(farthest, 0.0);
+  const test::TrustRun run = test::track_for_trust(po, options, "typing at the desk, front range");
   EXPECT_EQ(run.wrong, 0);
+  // The desk hides his lower body in both views, so no pair is published
+  // as tracking (docs/cvsm.md, "Occluded lower body"): the heading is the
+  // one the fit holds on every pair it fitted.
+  auto seq = phantom::PhantomSequence::create(po);
+  ASSERT_TRUE(seq.ok()) << seq.error().message;
+  auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
+  SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
+  CvsmTracker tracker(seq->options().rig, options);
+  int fitted = 0;
+  double farthest = 0;
+  for (int i = 0; i < seq->frame_count(); ++i) {
+    const phantom::PhantomFrame f = seq->render(i);
+    const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
+    if (!r.estimated) continue;
+    ++fitted;
+    farthest = std::max(farthest, apart_deg(r.pose.heading, 0));
+  }
+  ASSERT_GT(fitted, 0);
+  EXPECT_EQ(farthest, 0.0);
 }
 
 // [cvsm] heading = "front": the fit never turns the subject past 90° from
