@@ -7,12 +7,13 @@
 // for both, no lost frame on the slow scenarios, and after `fast` (a 40°
 // bend in half a second) tracking back within 5 frames. All of them are
 // asserted, on all 18 scenario × subject runs.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
 #include <gtest/gtest.h>
 
-#include "phantom_run.hpp"
+#include "trust_run.hpp"
 
 namespace spinewatch {
 namespace {
@@ -76,6 +77,56 @@ TEST(PhantomAccuracyFast, RecoversWithinFiveFramesAfterAFastBend) {
     EXPECT_LE(mean(st.neck), kIssueTarget.mean_mm) << subject;
     EXPECT_LE(mean(st.waist), kIssueTarget.mean_mm) << subject;
   }
+}
+
+// The provisional subject model (docs/cvsm.md, "Provisional model"): a
+// measured adult bending forward, fitted from its silhouettes by a
+// tracker with the defaults (tracking from the 3rd of the model's 10
+// pairs) and by one that publishes nothing before the model is complete.
+// The first is tracking from the 3rd pair with the person, every
+// provisional posture within the bound of a trusted one, and from the
+// 10th pair on both trackers publish the same postures.
+TEST(ProvisionalModel, TracksFromTheThirdPairAndLeavesTheCompleteModelsPosturesAsTheyWere) {
+  phantom::PhantomOptions po;
+  po.scenario = "flexion";
+  po.subject = test::load_named_subject("ansur-15936");
+  po.frames = 16;
+  auto seq = phantom::PhantomSequence::create(po);
+  ASSERT_TRUE(seq.ok()) << seq.error().message;
+  auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
+  const CvsmOptions provisional;
+  CvsmOptions complete_only;
+  complete_only.provisional_frames = complete_only.subject_frames;
+  CvsmTracker early(seq->options().rig, provisional), late(seq->options().rig, complete_only);
+  SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
+  int person = 0, first_tracking = -1;
+  double worst_provisional_mm = 0;
+  for (int i = 0; i < seq->frame_count(); ++i) {
+    const phantom::PhantomFrame f = seq->render(i);
+    const SilhouetteResult sf = frontal.extract(view_of(f.luma[0])), sl = lateral.extract(view_of(f.luma[1]));
+    const CvsmResult a = early.track(sf, sl), b = late.track(sf, sl);
+    if (!f.truth.vertebrae) continue;
+    if (a.state == TrackingState::Tracking && first_tracking < 0) first_tracking = person;
+    if (person < provisional.subject_frames - 1) {
+      EXPECT_EQ(a.provisional, a.state == TrackingState::Tracking) << "pair " << person;
+      EXPECT_NE(b.state, TrackingState::Tracking) << "pair " << person;
+      if (a.state == TrackingState::Tracking)
+        for (std::size_t k = 0; k < kVertebraCount; ++k)
+          worst_provisional_mm = std::max(worst_provisional_mm, (a.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm());
+    } else {
+      EXPECT_FALSE(a.provisional) << "pair " << person;
+      EXPECT_EQ(a.state, b.state) << "pair " << person;
+      for (std::size_t k = 0; k < kVertebraCount; ++k)
+        EXPECT_EQ(a.vertebrae[k].body_center, b.vertebrae[k].body_center) << "pair " << person << ", vertebra " << k;
+    }
+    ++person;
+  }
+  std::printf("provisional model: first tracking pair %d, worst provisional vertebra %.0f mm\n", first_tracking,
+              worst_provisional_mm);
+  EXPECT_EQ(first_tracking, provisional.provisional_frames - 1);
+  // Measured on this render: 15 mm (pairs 3 to 9 with the person).
+  EXPECT_LE(worst_provisional_mm, 30.0);
+  EXPECT_LT(worst_provisional_mm, test::kWrongMm);
 }
 
 }  // namespace

@@ -113,8 +113,11 @@ BodyModel without_arms(const BodyModel& model) {
 }  // namespace
 
 // Where the tracker stands between two pairs. Transitions (track(), no_person()):
-//   Building   --a clean pair refines the model; the subject_frames-th
-//                 completes it-->                 Tracking (fit within lost_cost)
+//   Building   --a clean pair refines the model; from the
+//                 provisional_frames-th on it is published as
+//                 tracking (publish_provisional)--> Building
+//   Building   --the subject_frames-th clean pair
+//                 completes the model-->          Tracking (fit within lost_cost)
 //                                                 or Searching (fit beyond it)
 //   Building   --no person, or a flagged pair-->  Building (nothing learnt)
 //   Searching  --global search, good fit-->       Predicting (clean pair) or Tracking (flagged pair)
@@ -126,7 +129,8 @@ BodyModel without_arms(const BodyModel& model) {
 //   Predicting --no person-->                     Searching
 // Nothing leads back to Building but reset().
 enum class Phase : std::uint8_t {
-  Building,    // the subject model is not complete (init_frames < subject_frames, or none yet): state init
+  Building,    // the subject model is not complete (init_frames < subject_frames, or none yet): state init,
+               // or tracking from provisional_frames on (CvsmResult::provisional)
   Searching,   // the model is built, the pose is not known: the next pair is searched for globally
   Tracking,    // the last fit was good: a local search from it
   Predicting,  // as Tracking, and the pair before was good and clean too: the local search also
@@ -486,6 +490,38 @@ struct CvsmTracker::Impl {
     return r;
   }
 
+  // A pair of the model's building, fitted against the model built so far
+  // (docs/cvsm.md, "Provisional model"): published as tracking when it
+  // passes what a tracked pair must — a fit within lost_cost, the lower
+  // body seen in a view, an axial twist whose sign the views tell (and
+  // the fit's own, not its mirror) — and a fit no worse than the best of
+  // the building's pairs by more than kProvisionalCostRise. Else it stays
+  // init. The pose is not changed: the model goes on being built from it.
+  // The rise: the building fits shape and pose together, so a posture the
+  // model does not hold (a lunge, a raised arm) is partly taken into the
+  // shape and the pose follows it less; the cost says so before the
+  // posture goes wrong. On the development subject's lunge the fit was
+  // 46 mm off at a rise of 0.048 and 51 mm at 0.067, while reaching arms
+  // rose to 0.039 at 20 mm (docs/cvsm.md, "Provisional model").
+  static constexpr double kProvisionalCostRise = 0.04;
+  double best_building_cost = 2;  // the lowest reported cost of the building's pairs
+  void publish_provisional(CvsmResult& r) {
+    if (r.fit.cost > opt.lost_cost || r.fit.cost > best_building_cost + kProvisionalCostRise) return;
+    if (hiding[0] && hiding[1]) return;
+    const CvsmPose built = pose;
+    cost->set_row_step(opt.search_row_step);  // the twist margin's rows
+    int candidates = 0;
+    const TwistCheck twist = check_twist_sign(candidates);
+    cost->set_row_step(1);
+    const bool mirrored = pose.twist != built.twist;
+    pose = built;
+    r.fit.candidates = r.fit.candidates.value_or(0) + candidates;
+    if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
+    if (!twist.resolved() || mirrored) return;
+    r.state = TrackingState::Tracking;
+    r.provisional = true;
+  }
+
   CvsmResult no_person(std::string_view flag) {
     CvsmResult r;
     r.state = TrackingState::Lost;
@@ -563,12 +599,15 @@ struct CvsmTracker::Impl {
       home = pose.translation;
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
+      best_building_cost = std::min(best_building_cost, r.fit.cost);
       // The model is complete only once the heading is known: a subject
       // whose front the views cannot tell from its back stays init.
       if (init_frames >= opt.subject_frames && heading_resolved) {
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
         withhold_unseen_pelvis(frontal, lateral, r);
+      } else if (init_frames >= opt.provisional_frames && heading_resolved && pelvis_seen(frontal, lateral, r)) {
+        publish_provisional(r);
       }
       return r;
     }
@@ -639,11 +678,16 @@ struct CvsmTracker::Impl {
   // it: the waist rests on the model's proportions, not on the views. Not
   // published as tracking, as with the occluder alone above.
   void withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const {
-    if (r.state != TrackingState::Tracking) return;
-    if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return;
-    if (!hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae)) return;
+    if (r.state != TrackingState::Tracking || pelvis_seen(frontal, lateral, r)) return;
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+  }
+
+  // Whether one view at least shows the pelvis (neither an occluder nor the
+  // image's edge hides it there): a provisional posture needs it too.
+  bool pelvis_seen(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const {
+    if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return true;
+    return !hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae);
   }
 
   int cost_width = 0, cost_height = 0;

@@ -31,6 +31,8 @@ const OptionTable<CvsmConfig>& CvsmConfig::keys() {
   static const OptionTable<S> table = {
       text_key("model", &S::model),
       integer_key("subject_frames", &S::subject_frames, 0, 1000),
+      integer_key("provisional_frames", &S::provisional_frames, 1, 1000),
+      number_key("new_subject_after_s", &S::new_subject_after_s, 0.0, 86400.0),
       number_key("lost_cost", &S::lost_cost, 0.01, 2.0),
       integer_key("refine_steps", &S::refine_steps, 0, 4),
       mode_key("limbs", &S::limbs, {{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}}),

@@ -67,6 +67,7 @@ std::string bootstrap_stall_reason(const BootstrapAttempt& a, const BootstrapOpt
 CvsmOptions cvsm_options(const EstimatorOptions& o) {
   CvsmOptions c;
   c.subject_frames = o.cvsm.subject_frames;
+  c.provisional_frames = o.cvsm.provisional_frames;
   c.lost_cost = o.cvsm.lost_cost;
   c.refine_steps = o.cvsm.refine_steps;
   c.limbs = o.cvsm.limbs;
@@ -148,13 +149,43 @@ struct PostureEstimator::Impl {
   void set_worker(const KnownWorker& worker) {
     set_known_worker(options.subject, worker);
     tracker = CvsmTracker(rig, cvsm_options(options));
+    drop_spine_model();
+    for (Gate& g : gates) g.active = false;
+  }
+
+  // The accurate model, its dynamics and the ergonomics measured against
+  // its neutral: built again (ensure_spine_model) from the next tracked fit.
+  void drop_spine_model() {
     spine_model.reset();
     dynamics.reset();
     ergonomics.reset();
     dynamics_reset_pending = true;
     previous_t_ns.reset();
-    for (Gate& g : gates) g.active = false;
   }
+
+  // Someone in view after the scene was empty for [cvsm] new_subject_after_s:
+  // the station cannot tell who came back, and another person fitted with
+  // the last one's model is confidently wrong (a taller man after a shorter
+  // one: every posture 57–68 mm off; docs/cvsm.md, "Provisional model"). So
+  // the subject model is built afresh, tracking again from its provisional
+  // pairs; a shorter absence keeps it.
+  void start_new_subject_after_empty_scene(SilhouetteStatus frontal, SilhouetteStatus lateral, std::int64_t t_ns) {
+    auto someone = [](SilhouetteStatus s) {
+      return s != SilhouetteStatus::NoPerson && s != SilhouetteStatus::LearningBackground &&
+             s != SilhouetteStatus::NoBackground;
+    };
+    if (!someone(frontal) || !someone(lateral)) return;
+    const double limit_s = options.cvsm.new_subject_after_s;
+    if (last_person_ns && limit_s > 0 && double(t_ns - *last_person_ns) * 1e-9 >= limit_s && tracker.subject_model()) {
+      spdlog::info("estimator: someone in view after {:.1f} s without anyone: the subject model is built afresh",
+                   double(t_ns - *last_person_ns) * 1e-9);
+      tracker.reset();
+      drop_spine_model();
+      for (Gate& g : gates) g.active = false;
+    }
+    last_person_ns = t_ns;
+  }
+  std::optional<std::int64_t> last_person_ns;  // the last pair with someone in both views
 
   // The frames' size is known with the first pair: then each view learns
   // where the subject can be, for bootstrapping a background.
@@ -191,7 +222,9 @@ struct PostureEstimator::Impl {
     ergonomics.emplace(spine_model->neutral());
     load_params.height_mm = height;
     if (const auto body = worker_body()) load_params.body_mass_kg = body->mass_kg;
-    if (const auto body = worker_body()) {
+    if (spine_model_provisional) {
+      spdlog::debug("estimator: provisional subject model: tracking while it is being built");
+    } else if (const auto body = worker_body()) {
       spdlog::info("estimator: subject model built (stature {:.0f} mm {}, mass {:.1f} kg {})", body->stature_mm,
                    to_string(body->stature_source), body->mass_kg, to_string(body->mass_source));
       if (body->rejected_stature_mm)
@@ -273,6 +306,7 @@ struct PostureEstimator::Impl {
   SilhouetteExtractor silhouettes[2];
   CvsmTracker tracker;
   std::optional<SpineModel> spine_model;
+  bool spine_model_provisional = false;  // built on a subject model still being built
   std::optional<SpineDynamics> dynamics;
   bool dynamics_reset_pending = true;  // after start and after every lost pair
   std::optional<ErgonomicsMonitor> ergonomics;
@@ -338,6 +372,7 @@ Posture PostureEstimator::process(const FramePair& pair) {
   m.last_silhouettes[1] = m.silhouettes[1].extract(pair.lateral.luma(), m.gate(1));
   const SilhouetteResult& frontal = m.last_silhouettes[0];
   const SilhouetteResult& lateral = m.last_silhouettes[1];
+  m.start_new_subject_after_empty_scene(frontal.status, lateral.status, pair.timestamp_ns);
   m.last_fit = m.tracker.track(frontal, lateral);
   m.processed = true;
   m.update_gates();
@@ -379,6 +414,12 @@ Posture PostureEstimator::process(const FramePair& pair) {
     return posture;
   }
 
+  // A fit on the subject model still being built (docs/cvsm.md,
+  // "Provisional model") drives an accurate model built on it; once the
+  // subject model is complete, the accurate model and what rests on it are
+  // built again from the complete one, as when nothing was provisional.
+  if (m.dynamics && m.spine_model_provisional && !fit.provisional) m.drop_spine_model();
+  if (!m.dynamics) m.spine_model_provisional = fit.provisional;
   m.ensure_spine_model();
   if (m.dynamics_reset_pending) {
     // Warm start from the CVSM's own vertebrae, then continue incrementally.

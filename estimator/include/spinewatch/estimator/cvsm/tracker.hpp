@@ -25,6 +25,10 @@ namespace spinewatch {
 // Mirrors the [cvsm] keys of the station configuration.
 struct CvsmOptions {
   int subject_frames = 10;       // upright frames that build the subject's model
+  // From this many of them on, the pose fitted against the model built so
+  // far is published as tracking while the model is still being built
+  // (docs/cvsm.md, "Provisional model"); ≥ subject_frames: only once built.
+  int provisional_frames = 3;
   double lost_cost = 0.35;       // XOR / silhouette pixels above which tracking is lost
   double height_mm = 1750;       // used only when the head is cut off or the subject sits
   // The worker's stature when given (anatomy/worker.hpp): it replaces the
@@ -76,6 +80,10 @@ struct CvsmResult {
   // Whether neck, waist and vertebrae hold a fit: not while the background
   // is learnt (state init) nor with no person (state lost).
   bool estimated = false;
+  // Whether the subject model this fit used was still being built (fewer
+  // than subject_frames pairs in it): published as tracking from
+  // provisional_frames on, the model then completes from the next pairs.
+  bool provisional = false;
   // When the fit settled on an axial twist of 6° or more: how many more
   // XOR pixels (on the search's rows) the mirrored twist scored. Below the
   // tracker's margin the sign is not resolved: fit.flag "twist_unresolved".
