@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
+#include "cvsm/occluder_edge.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_fixtures.hpp"
-#include "occluder_edge.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 namespace {

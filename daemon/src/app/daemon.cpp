@@ -2,7 +2,7 @@
 // run() serves until a stop signal and then stops the pipeline and the
 // outputs in order. The estimator thread's on_posture hands each posture,
 // summary and alert to every output (PostureSink) in turn.
-#include "daemon_impl.hpp"
+#include "app/daemon_impl.hpp"
 
 #include <csignal>
 
@@ -11,13 +11,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "app/startup.hpp"
+#include "source/recording_pair_source.hpp"
 #include "spinewatch/capture/libcamera_camera.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
-#include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/estimator/load/alert_json.hpp"
-#include "startup.hpp"
 
 namespace spinewatch {
 
@@ -198,6 +198,11 @@ void hold_stop_signals() {
 
 Daemon::Daemon() = default;
 Daemon::~Daemon() = default;
+
+Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path, Config config,
+                                               DaemonOverrides overrides) {
+  return create(std::move(config_path), std::move(config), std::move(overrides), DaemonParts{});
+}
 
 Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path, Config config,
                                                DaemonOverrides overrides, DaemonParts parts) {

@@ -17,16 +17,17 @@
 
 #include <boost/asio.hpp>
 
-#include "../outputs/sinks.hpp"
-#include "../source/ground_truth.hpp"
-#include "posture_counters.hpp"
+#include "app/daemon_parts.hpp"
+#include "app/posture_counters.hpp"
+#include "app/trigger_monitor.hpp"
+#include "app/worker_desk.hpp"
+#include "ops/notifier.hpp"
+#include "outputs/sinks.hpp"
+#include "source/ground_truth.hpp"
+#include "source/source_plan.hpp"
 #include "spinewatch/daemon/daemon.hpp"
-#include "spinewatch/daemon/notifier.hpp"
-#include "spinewatch/daemon/source_plan.hpp"
 #include "spinewatch/estimator/load/alerts.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
-#include "trigger_monitor.hpp"
-#include "worker_desk.hpp"
 
 namespace spinewatch {
 

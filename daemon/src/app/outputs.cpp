@@ -4,10 +4,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "daemon_impl.hpp"
+#include "app/daemon_impl.hpp"
+#include "app/startup.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
-#include "startup.hpp"
 
 namespace spinewatch {
 

@@ -1,4 +1,4 @@
-#include "startup.hpp"
+#include "app/startup.hpp"
 
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
@@ -6,8 +6,8 @@
 #include <spdlog/spdlog.h>
 
 #include "spinewatch/capture/recording.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
+#include "support/station_dirs.hpp"
 
 namespace spinewatch {
 

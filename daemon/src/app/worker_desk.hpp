@@ -9,9 +9,9 @@
 #include <string>
 #include <string_view>
 
+#include "access/pseudonym.hpp"
+#include "publish/publisher.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/pseudonym.hpp"
-#include "spinewatch/daemon/publisher.hpp"
 
 namespace spinewatch {
 

@@ -1,11 +1,11 @@
-#include "spinewatch/daemon/http_server.hpp"
+#include "http/http_server.hpp"
 
 #include <future>
 
 #include <boost/asio/ssl.hpp>
 
-#include "../net/tcp_listener.hpp"
-#include "http_session.hpp"
+#include "http/http_session.hpp"
+#include "net/tcp_listener.hpp"
 
 namespace spinewatch {
 

@@ -7,13 +7,13 @@
 #include <memory>
 #include <string>
 
-#include "spinewatch/daemon/alert_output.hpp"
-#include "spinewatch/daemon/http_server.hpp"
-#include "spinewatch/daemon/live_view.hpp"
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/posture_sink.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/store.hpp"
+#include "exposure/alert_output.hpp"
+#include "http/http_server.hpp"
+#include "http/live_view.hpp"
+#include "mqtt/mqtt_publisher.hpp"
+#include "outputs/posture_sink.hpp"
+#include "publish/publisher.hpp"
+#include "storage/store.hpp"
 
 namespace spinewatch {
 

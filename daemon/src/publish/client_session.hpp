@@ -21,8 +21,8 @@
 #include <boost/asio.hpp>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/access.hpp"
-#include "spinewatch/daemon/publisher.hpp"
+#include "access/access.hpp"
+#include "publish/publisher.hpp"
 
 namespace spinewatch::detail {
 

@@ -9,8 +9,8 @@
 #include <boost/asio/ip/address.hpp>
 #include <fmt/format.h>
 
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
+#include "publish/publisher.hpp"
+#include "support/station_dirs.hpp"
 
 namespace spinewatch {
 

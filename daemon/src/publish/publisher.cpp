@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/publisher.hpp"
+#include "publish/publisher.hpp"
 
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -18,8 +18,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "../net/tcp_listener.hpp"
-#include "client_session.hpp"
+#include "net/tcp_listener.hpp"
+#include "publish/client_session.hpp"
 
 namespace spinewatch {
 

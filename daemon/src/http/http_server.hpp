@@ -16,11 +16,11 @@
 #include <memory>
 #include <string>
 
-#include "spinewatch/daemon/access.hpp"
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/live_view.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/state_json.hpp"
+#include "access/access.hpp"
+#include "http/daemon_metrics.hpp"
+#include "http/live_view.hpp"
+#include "http/state_json.hpp"
+#include "publish/publisher.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {

@@ -16,7 +16,8 @@
 #include <optional>
 #include <string>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
+#include "spinewatch/daemon/endpoint.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace boost::asio {
@@ -24,11 +25,6 @@ class io_context;
 }
 
 namespace spinewatch {
-
-struct TcpEndpoint {
-  std::string host;        // numeric address or name, e.g. "127.0.0.1", "::"
-  std::uint16_t port = 0;  // 0: any free port (tests)
-};
 
 // What the publisher does with one line a client sent.
 struct ClientInputReply {
@@ -75,11 +71,6 @@ struct PublisherStats {
   std::size_t inbox_capacity = 0;
 };
 
-// "HOST:PORT" ("[::1]:7117" for IPv6) → endpoint; "none" is the caller's business.
-Result<TcpEndpoint> parse_listen_address(const std::string& text);
-// Only this machine can connect: a numeric loopback address (127.0.0.0/8,
-// ::1) or "localhost". A name that must be resolved is not loopback.
-bool is_loopback(const TcpEndpoint& endpoint);
 // A group's id by name (publish.unix_socket_group); errors name `key` and the group.
 Result<unsigned> group_id(const std::string& name, std::string_view key);
 // posture.sock in the runtime directory: $RUNTIME_DIRECTORY (systemd), else
