@@ -10,6 +10,7 @@
 
 #include "access/access.hpp"
 #include "access/pseudonym.hpp"
+#include "net/unix_listener.hpp"
 #include "publish/publisher.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "test_client.hpp"

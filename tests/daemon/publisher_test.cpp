@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "net/unix_listener.hpp"
 #include "publish/publisher.hpp"
 #include "support/station_dirs.hpp"
 #include "test_client.hpp"

@@ -25,8 +25,10 @@ namespace asio = boost::asio;
 
 Daemon::Impl::~Impl() {
   pipeline.reset();  // no more postures
-  // The outputs in stop order: the live view's server before the publisher
-  // whose I/O thread it runs on.
+  // run() has stopped the outputs and then the network loop; after a
+  // failed create() the loop stops here, before the servers on it go
+  // (their handlers refer to them), and the outputs go in stop order.
+  if (network) network->stop();
   for (auto& sink : sinks) sink.reset();
 }
 
@@ -253,6 +255,7 @@ int Daemon::run() {
     sink->on_note(NoteLevel::Info, "stopped: " + d.status_text(mean_rate()));
     sink->stop();
   }
+  d.network->stop();  // both servers have closed their clients on it
   spdlog::info("stopped in {} ms after {:.1f} s; over the run: {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
                run_s, d.status_text(mean_rate()));

@@ -99,7 +99,7 @@ class AlertLineSink final : public PostureSink {
 };
 
 // The HTTP server ([http], docs/daemon.md "Live view") and the live view
-// whose pictures it serves; the server runs on the publisher's I/O thread.
+// whose pictures it serves; the server runs on the daemon's network loop.
 class LiveViewSink final : public PostureSink {
  public:
   // Starts the live view's render thread; the server comes with start().

@@ -1,6 +1,6 @@
 #pragma once
 // Publishes NDJSON lines to every client of a TCP port and a Unix socket,
-// on its own Boost.Asio thread (docs/interfaces.md §5). Each client gets the hello
+// on the daemon's network loop (docs/interfaces.md §5). Each client gets the hello
 // line first, then every published line in order. A client that does not
 // keep up overflows its bounded queue and is dropped; what clients send is
 // cut into lines for the command handler (or thrown away without one), and
@@ -22,6 +22,10 @@
 
 namespace boost::asio {
 class io_context;
+}
+
+namespace spinewatch::net {
+class NetworkLoop;
 }
 
 namespace spinewatch {
@@ -71,15 +75,16 @@ struct PublisherStats {
   std::size_t inbox_capacity = 0;
 };
 
-// A group's id by name (publish.unix_socket_group); errors name `key` and the group.
-Result<unsigned> group_id(const std::string& name, std::string_view key);
-// posture.sock in the runtime directory: $RUNTIME_DIRECTORY (systemd), else
-// /run/spinewatch when writable, else the user's (station_dirs.hpp).
-Result<std::filesystem::path> default_unix_socket_path();
-
 class Publisher {
  public:
-  // Binds the sockets (removing a stale Unix socket file) and starts the I/O thread.
+  // Binds the sockets (removing a stale Unix socket file) and serves its
+  // clients on `io`, the daemon's network loop (net/network_loop.hpp),
+  // which must run until stop() has returned and stop before the
+  // publisher is destroyed.
+  static Result<std::unique_ptr<Publisher>> start(boost::asio::io_context& io, const PublisherOptions& options,
+                                                  std::string hello_line);
+  // The same on a network loop of its own, stopped with the publisher
+  // (tests; a program with no other server).
   static Result<std::unique_ptr<Publisher>> start(const PublisherOptions& options, std::string hello_line);
   ~Publisher();  // stop()
   Publisher(const Publisher&) = delete;
@@ -90,18 +95,21 @@ class Publisher {
   // The hello line for clients that connect from now on.
   void set_hello(std::string line);
   // Stops accepting, gives clients a moment to receive what is queued (whole
-  // lines only), closes them, removes the Unix socket file, joins. Idempotent.
+  // lines only), closes them, removes the Unix socket file; a loop of its
+  // own is stopped too. Once the loop has stopped, clients are just cut
+  // off. Idempotent; not from the loop's thread.
   void stop();
 
   std::uint16_t tcp_port() const;  // the bound port (0 when TCP is off)
   std::optional<std::filesystem::path> unix_socket() const;
   PublisherStats stats() const;
-  // The I/O thread's event loop, for the daemon's other servers (HTTP) to
-  // run on the same thread; valid while the publisher lives, running until stop().
+  // The event loop it serves on (tests hold its thread with it).
   boost::asio::io_context& io_context();
 
  private:
   Publisher();
+  static Result<std::unique_ptr<Publisher>> start(boost::asio::io_context& io, const PublisherOptions& options,
+                                                  std::string hello_line, std::unique_ptr<net::NetworkLoop> own_loop);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

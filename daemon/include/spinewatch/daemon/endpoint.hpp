@@ -16,8 +16,5 @@ struct TcpEndpoint {
 
 // "HOST:PORT" ("[::1]:7117" for IPv6) → endpoint; "none" is the caller's business.
 Result<TcpEndpoint> parse_listen_address(const std::string& text);
-// Only this machine can connect: a numeric loopback address (127.0.0.0/8,
-// ::1) or "localhost". A name that must be resolved is not loopback.
-bool is_loopback(const TcpEndpoint& endpoint);
 
 }  // namespace spinewatch
