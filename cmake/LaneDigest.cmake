@@ -8,7 +8,7 @@
 #   <name>_generic  SPINEWATCH_LANES_GENERIC: the fallback, on this CPU
 #   <name>.aarch64  aarch64-linux-gnu-g++ -static, run under qemu-aarch64
 #                   (label arm64; scripts/install-deps installs both)
-# Sources may use the estimator's and frames' headers and Eigen, nothing
+# Sources may use the estimator's (public and internal) and frames' headers and Eigen, nothing
 # that needs a library of another architecture.
 #
 # In a cross build (the arm64 preset) this build's CPU is aarch64: _native
@@ -19,7 +19,8 @@ find_program(SPINEWATCH_QEMU_AARCH64 NAMES qemu-aarch64-static qemu-aarch64)
 
 function(spinewatch_lane_digest)
   cmake_parse_arguments(D "" "NAME;SUITE" "SOURCES" ${ARGN})
-  set(includes ${SPINEWATCH_SOURCE_DIR}/estimator/include ${SPINEWATCH_SOURCE_DIR}/frames/include)
+  set(includes ${SPINEWATCH_SOURCE_DIR}/estimator/include ${SPINEWATCH_SOURCE_DIR}/estimator/src
+               ${SPINEWATCH_SOURCE_DIR}/frames/include)
   foreach(flavour native generic)
     add_executable(${D_NAME}_${flavour} ${D_SOURCES})
     target_link_libraries(${D_NAME}_${flavour} PRIVATE spinewatch_warnings Eigen3::Eigen)

@@ -39,11 +39,38 @@ function(spinewatch_optimise_under_sanitizers target)
 endfunction()
 
 # spinewatch_module(NAME <target> SOURCES ... DEPS ...)
-# One library per module, public headers under <dir>/include/spinewatch/<module>/.
+# One library per module. Public headers (what other modules use) under
+# <dir>/include/spinewatch/<module>/, included as "spinewatch/<module>/x.hpp";
+# internal ones beside their sources, included by their path under <dir>/src
+# ("cvsm/lanes.hpp"), which only the module itself sees (docs/architecture.md,
+# "Headers").
 function(spinewatch_module)
   cmake_parse_arguments(M "" "NAME" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
   add_library(${M_NAME} STATIC ${M_SOURCES})
-  target_include_directories(${M_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_include_directories(${M_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
+                                       PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
   target_link_libraries(${M_NAME} PUBLIC ${M_DEPS} PRIVATE spinewatch_warnings ${M_PRIVATE_DEPS})
   add_library(spinewatch::${M_NAME} ALIAS ${M_NAME})
+endfunction()
+
+# spinewatch_internal_headers(NAME <target>)
+# An INTERFACE target that puts this module's src/ on the include path: its
+# internal headers, for its tests, benchmarks and fuzz harnesses (never for
+# tools/ or another module). Link the module's library beside it. Tests see
+# several modules' src/ at once, so an internal header's path under src/
+# must be unique across them: checked here, at configure time.
+function(spinewatch_internal_headers)
+  cmake_parse_arguments(I "" "NAME" "" ${ARGN})
+  set(src ${CMAKE_CURRENT_SOURCE_DIR}/src)
+  add_library(${I_NAME} INTERFACE)
+  target_include_directories(${I_NAME} INTERFACE ${src})
+  file(GLOB_RECURSE headers RELATIVE ${src} CONFIGURE_DEPENDS ${src}/*.hpp)
+  get_property(seen GLOBAL PROPERTY SPINEWATCH_INTERNAL_HEADERS)
+  foreach(header IN LISTS headers)
+    if(header IN_LIST seen)
+      message(FATAL_ERROR "${src}/${header}: another module's src/ has an internal header at the same path; "
+                          "rename one (tests see both src/ directories)")
+    endif()
+  endforeach()
+  set_property(GLOBAL APPEND PROPERTY SPINEWATCH_INTERNAL_HEADERS ${headers})
 endfunction()

@@ -10,7 +10,7 @@
 
 #include "command.hpp"
 #include "output_file.hpp"
-#include "spinewatch/daemon/store.hpp"
+#include "spinewatch/daemon/stored_lines.hpp"
 #include "spinewatch/export/opensim_files.hpp"
 #include "spinewatch/export/posture_rows.hpp"
 #include "spinewatch/report/summary_set.hpp"

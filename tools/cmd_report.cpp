@@ -9,7 +9,7 @@
 
 #include "command.hpp"
 #include "output_file.hpp"
-#include "spinewatch/daemon/store.hpp"
+#include "spinewatch/daemon/stored_lines.hpp"
 #include "spinewatch/report/html_report.hpp"
 
 namespace spinewatch::cli {

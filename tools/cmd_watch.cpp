@@ -12,7 +12,7 @@
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
-#include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/endpoint.hpp"
 
 namespace spinewatch::cli {
 namespace {

@@ -11,12 +11,12 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "cvsm/silhouette_edges.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_reference.hpp"
-#include "spinewatch/estimator/cvsm/silhouette_edges.hpp"
+#include "silhouette/threshold_row.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
 namespace spinewatch {

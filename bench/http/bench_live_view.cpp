@@ -17,11 +17,11 @@
 #include <boost/asio.hpp>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/http_server.hpp"
-#include "spinewatch/daemon/live_view.hpp"
+#include "../phantom_pairs.hpp"
+#include "http/http_server.hpp"
+#include "http/live_view.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/phantom/phantom.hpp"
-#include "../phantom_pairs.hpp"
 
 namespace spinewatch {
 namespace {

@@ -22,11 +22,11 @@
 #include <benchmark/benchmark.h>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
+#include "../phantom_pairs.hpp"
+#include "mqtt/mqtt_publisher.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/phantom/phantom.hpp"
-#include "../phantom_pairs.hpp"
 
 extern char** environ;
 

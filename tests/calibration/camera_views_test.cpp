@@ -11,7 +11,7 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include "camera_views.hpp"
+#include "calibration/camera_views.hpp"
 
 namespace spinewatch {
 namespace {

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "spinewatch/daemon/store.hpp"
+#include "storage/store.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {

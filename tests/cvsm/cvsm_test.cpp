@@ -7,12 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "cvsm/fixed_camera.hpp"
+#include "cvsm/segment_scan.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_fixtures.hpp"
 #include "cvsm_reference.hpp"
-#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
-#include "spinewatch/estimator/cvsm/segment_scan.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 namespace {

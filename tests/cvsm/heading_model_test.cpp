@@ -3,9 +3,9 @@
 // the reference (the unturned pose's points turned by hand).
 #include <gtest/gtest.h>
 
+#include "cvsm/subject_heading.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_fixtures.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
-#include "subject_heading.hpp"
 
 namespace spinewatch {
 namespace {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <random>
 
+#include "cvsm/occluder_edge.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_fixtures.hpp"
-#include "occluder_edge.hpp"
-#include "pelvis_in_view.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "cvsm/pelvis_in_view.hpp"
 
 namespace spinewatch {
 namespace {

@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include "cvsm/outline_fit.hpp"
+#include "cvsm/segment_scan.hpp"
+#include "cvsm/silhouette_edges.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "cvsm_fixtures.hpp"
-#include "outline_fit.hpp"
-#include "spinewatch/estimator/cvsm/segment_scan.hpp"
-#include "spinewatch/estimator/cvsm/silhouette_edges.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <random>
 #include <vector>
-#include "spinewatch/estimator/cvsm/segment_scan.hpp"
+#include "cvsm/segment_scan.hpp"
 using namespace spinewatch;
 int main() {
   std::mt19937 rng(7);

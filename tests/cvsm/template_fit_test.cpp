@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/cvsm/template_fit.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 namespace {

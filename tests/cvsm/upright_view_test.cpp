@@ -9,8 +9,8 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "cvsm/upright_view.hpp"
 #include "cvsm_fixtures.hpp"
-#include "upright_view.hpp"
 
 namespace spinewatch {
 namespace {

@@ -8,10 +8,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
+#include "access/pseudonym.hpp"
+#include "net/unix_listener.hpp"
+#include "publish/publisher.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/pseudonym.hpp"
-#include "spinewatch/daemon/publisher.hpp"
 #include "test_client.hpp"
 #include "test_support.hpp"
 

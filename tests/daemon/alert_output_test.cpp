@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "spinewatch/daemon/alert_output.hpp"
+#include "exposure/alert_output.hpp"
+#include "ops/config_reload.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/estimator/load/alert_json.hpp"
 #include "spinewatch/sync/fake_trigger_line.hpp"
 #include "test_support.hpp"

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "spinewatch/daemon/client_command.hpp"
+#include "ops/client_command.hpp"
 
 namespace spinewatch {
 namespace {

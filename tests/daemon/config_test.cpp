@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
-#include "../../daemon/src/support/nearest_name.hpp"
+#include "ops/config_reload.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/config_reload.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
+#include "support/nearest_name.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {

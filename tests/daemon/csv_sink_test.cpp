@@ -7,6 +7,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/daemon_parts.hpp"
 #include "spinewatch/daemon/daemon.hpp"
 #include "spinewatch/daemon/testing/fake_pair_source.hpp"
 #include "test_client.hpp"

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/daemon_parts.hpp"
 #include "spinewatch/daemon/daemon.hpp"
 #include "spinewatch/daemon/testing/fake_pair_source.hpp"
 #include "test_client.hpp"

@@ -15,13 +15,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "http/daemon_metrics.hpp"
+#include "http/http_routes.hpp"
+#include "http/http_server.hpp"
+#include "http/state_json.hpp"
 #include "http_client.hpp"
-#include "spinewatch/frames/clock.hpp"
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/http_routes.hpp"
-#include "spinewatch/daemon/http_server.hpp"
-#include "spinewatch/daemon/state_json.hpp"
 #include "spinewatch/estimator/silhouette/view_coverage.hpp"
+#include "spinewatch/frames/clock.hpp"
 #include "test_client.hpp"
 #include "test_support.hpp"
 

@@ -10,13 +10,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "http/daemon_metrics.hpp"
+#include "mqtt/mqtt_outbox.hpp"
+#include "mqtt/mqtt_publisher.hpp"
 #include "mqtt_broker.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/mqtt_outbox.hpp"
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/mqtt_url.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
+#include "support/mqtt_url.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {

@@ -8,10 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "pipeline/pipeline.hpp"
+#include "publish/publisher.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/daemon/testing/fake_pair_source.hpp"
-#include "spinewatch/daemon/pipeline.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
 #include "test_client.hpp"
 #include "test_support.hpp"
 

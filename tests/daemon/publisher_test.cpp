@@ -10,8 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
+#include "net/unix_listener.hpp"
+#include "publish/publisher.hpp"
+#include "support/station_dirs.hpp"
 #include "test_client.hpp"
 #include "test_support.hpp"
 

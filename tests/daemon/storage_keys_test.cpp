@@ -5,6 +5,7 @@
 
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
+#include "storage/store.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {

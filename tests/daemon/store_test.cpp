@@ -6,7 +6,7 @@
 
 #include <thread>
 
-#include "spinewatch/daemon/store.hpp"
+#include "storage/store.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch {

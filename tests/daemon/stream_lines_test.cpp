@@ -2,8 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "spinewatch/daemon/config_reload.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
+#include "ops/config_reload.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 #include "test_support.hpp"
 

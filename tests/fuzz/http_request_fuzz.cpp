@@ -13,7 +13,7 @@
 #include <boost/beast/http.hpp>
 
 #include "fuzz_support.hpp"
-#include "spinewatch/daemon/http_routes.hpp"
+#include "http/http_routes.hpp"
 
 namespace {
 

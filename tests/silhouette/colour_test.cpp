@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "silhouette/threshold_row.hpp"
 #include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 #include "synthetic_scene.hpp"
 
 namespace spinewatch {

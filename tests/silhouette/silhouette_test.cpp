@@ -8,8 +8,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "silhouette/threshold_row.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 #include "synthetic_scene.hpp"
 
 namespace spinewatch {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
+#include "silhouette/threshold_row.hpp"
 
 using namespace spinewatch::silhouette_detail;
 

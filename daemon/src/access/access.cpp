@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <openssl/ssl.h>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
 
 namespace spinewatch {
 

@@ -1,5 +1,5 @@
-#include "spinewatch/daemon/pseudonym.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
+#include "access/pseudonym.hpp"
+#include "support/station_dirs.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 #include <openssl/hmac.h>
 #include <openssl/rand.h>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {

@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {

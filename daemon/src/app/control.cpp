@@ -7,10 +7,10 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
-#include "daemon_impl.hpp"
-#include "spinewatch/daemon/config_reload.hpp"
+#include "app/daemon_impl.hpp"
+#include "ops/config_reload.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
 
 namespace spinewatch {
 

@@ -2,7 +2,7 @@
 // run() serves until a stop signal and then stops the pipeline and the
 // outputs in order. The estimator thread's on_posture hands each posture,
 // summary and alert to every output (PostureSink) in turn.
-#include "daemon_impl.hpp"
+#include "app/daemon_impl.hpp"
 
 #include <csignal>
 
@@ -11,13 +11,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "app/startup.hpp"
+#include "source/recording_pair_source.hpp"
 #include "spinewatch/capture/libcamera_camera.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
-#include "spinewatch/daemon/recording_pair_source.hpp"
 #include "spinewatch/estimator/load/alert_json.hpp"
-#include "startup.hpp"
 
 namespace spinewatch {
 
@@ -25,8 +25,10 @@ namespace asio = boost::asio;
 
 Daemon::Impl::~Impl() {
   pipeline.reset();  // no more postures
-  // The outputs in stop order: the live view's server before the publisher
-  // whose I/O thread it runs on.
+  // run() has stopped the outputs and then the network loop; after a
+  // failed create() the loop stops here, before the servers on it go
+  // (their handlers refer to them), and the outputs go in stop order.
+  if (network) network->stop();
   for (auto& sink : sinks) sink.reset();
 }
 
@@ -200,6 +202,11 @@ Daemon::Daemon() = default;
 Daemon::~Daemon() = default;
 
 Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path, Config config,
+                                               DaemonOverrides overrides) {
+  return create(std::move(config_path), std::move(config), std::move(overrides), DaemonParts{});
+}
+
+Result<std::unique_ptr<Daemon>> Daemon::create(std::filesystem::path config_path, Config config,
                                                DaemonOverrides overrides, DaemonParts parts) {
   std::unique_ptr<Daemon> daemon(new Daemon());
   daemon->impl_ = std::make_unique<Impl>(std::move(config_path), std::move(config), std::move(overrides));
@@ -248,6 +255,7 @@ int Daemon::run() {
     sink->on_note(NoteLevel::Info, "stopped: " + d.status_text(mean_rate()));
     sink->stop();
   }
+  d.network->stop();  // both servers have closed their clients on it
   spdlog::info("stopped in {} ms after {:.1f} s; over the run: {}",
                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count(),
                run_s, d.status_text(mean_rate()));

@@ -4,7 +4,7 @@
 // control.cpp (the main thread's loop: signals, status, watchdog, reload).
 //
 // Threads: the main thread runs `control`; the pipeline's source and
-// estimator threads; the publisher's I/O thread (clients, HTTP); each
+// estimator threads; the network loop's I/O thread (clients, HTTP); each
 // output's own writer thread. Each member says who writes it.
 #include <atomic>
 #include <chrono>
@@ -17,16 +17,18 @@
 
 #include <boost/asio.hpp>
 
-#include "../outputs/sinks.hpp"
-#include "../source/ground_truth.hpp"
-#include "posture_counters.hpp"
+#include "app/daemon_parts.hpp"
+#include "app/posture_counters.hpp"
+#include "app/trigger_monitor.hpp"
+#include "app/worker_desk.hpp"
+#include "net/network_loop.hpp"
+#include "ops/notifier.hpp"
+#include "outputs/sinks.hpp"
+#include "source/ground_truth.hpp"
+#include "source/source_plan.hpp"
 #include "spinewatch/daemon/daemon.hpp"
-#include "spinewatch/daemon/notifier.hpp"
-#include "spinewatch/daemon/source_plan.hpp"
 #include "spinewatch/estimator/load/alerts.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
-#include "trigger_monitor.hpp"
-#include "worker_desk.hpp"
 
 namespace spinewatch {
 
@@ -70,10 +72,13 @@ struct Daemon::Impl {
   std::vector<std::string> hello_warnings;  // said to every client (make_hello_line)
   WorkerDesk workers;                       // declared before the outputs, whose threads reach it
 
+  // Both servers' I/O thread (the publisher's clients, HTTP). Declared
+  // before the outputs: stopped after them, destroyed after them.
+  std::unique_ptr<net::NetworkLoop> network;
   // The outputs, in the order they stop (outputs.cpp lists them). Written
   // during create() only; every thread reads.
   std::vector<std::unique_ptr<PostureSink>> sinks;
-  Publisher* publisher = nullptr;       // in `sinks`: the hello on reload, its I/O thread for HTTP
+  Publisher* publisher = nullptr;       // in `sinks`: the hello on reload
   AlertLineSink* alert_line = nullptr;  // in `sinks` with [alerts] gpio_chip: silent mode on reload
 
   // Estimator thread only, after create().

@@ -4,10 +4,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "daemon_impl.hpp"
+#include "access/network_access.hpp"
+#include "app/daemon_impl.hpp"
+#include "app/startup.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/daemon/exposure_options.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
-#include "startup.hpp"
 
 namespace spinewatch {
 
@@ -16,9 +17,9 @@ namespace {
 // An unauthenticated network listener: said to every client and logged.
 void warn_unprotected(std::vector<std::string>& warnings, std::string_view scheme, const TcpEndpoint& endpoint,
                       const Access& access, std::string_view what, std::string_view key) {
-  if (is_loopback(endpoint) || access.safe_for_network()) return;
-  warnings.push_back(fmt::format("unauthenticated: {} {}:{} serves the {} to anyone who can reach it ({})", scheme,
-                                 endpoint.host, endpoint.port, what, key));
+  auto warning = unprotected_warning(scheme, endpoint, access, what, key);
+  if (!warning) return;
+  warnings.push_back(std::move(*warning));
   spdlog::warn("{}", warnings.back());
 }
 
@@ -71,7 +72,10 @@ Status Daemon::Impl::open_outputs(std::vector<std::unique_ptr<PostureSink>> extr
   auto alert = open_alert_line(config.alerts, hello_warnings);
   const bool alert_line_failed = alert && !alert->is_open();  // its warning is the last one
 
-  auto started = Publisher::start(*options, make_hello_line(config.station.name, rig, source_name, hello_warnings));
+  // Both servers' I/O thread: the publisher's clients and, with --http, the live view's.
+  network = std::make_unique<net::NetworkLoop>("network");
+  auto started = Publisher::start(network->io(), *options,
+                                  make_hello_line(config.station.name, rig, source_name, hello_warnings));
   if (!started) return started.error();
   auto publisher_sink = std::make_unique<PublisherSink>(std::move(started).value());
   publisher = &publisher_sink->publisher();
@@ -97,8 +101,9 @@ Status Daemon::Impl::open_outputs(std::vector<std::unique_ptr<PostureSink>> extr
 
   // The list, in the order the outputs stop: the alert line first (the
   // buzzer or lamp off before anything else), MQTT (sends what it can,
-  // says "offline"), the live view (its server runs on the publisher's
-  // I/O thread), the publisher, the store (it records the stop), then the caller's.
+  // says "offline"), the live view and its server, the publisher (both
+  // close their clients on the network loop, which stops after the
+  // outputs), the store (it records the stop), then the caller's.
   alert_line = alert.get();
   LiveViewSink* live_view = live.get();
   sinks.push_back(std::move(alert));
@@ -114,7 +119,7 @@ Status Daemon::Impl::open_outputs(std::vector<std::unique_ptr<PostureSink>> extr
   return Ok{};
 }
 
-// The live view's server, on the publisher's I/O thread.
+// The live view's server, on the network loop.
 Status Daemon::Impl::start_http(LiveViewSink& live, const HttpOptions& options) {
   const Config::Http& h = config.http;
   StationInfo station{.station = config.station.name,
@@ -132,7 +137,7 @@ Status Daemon::Impl::start_http(LiveViewSink& live, const HttpOptions& options) 
                           relearn_requested.store(true);
                           return true;
                         }};
-  if (auto s = live.start(publisher->io_context(), options, std::move(handlers), std::move(station)); !s) return s;
+  if (auto s = live.start(network->io(), options, std::move(handlers), std::move(station)); !s) return s;
   spdlog::info("live view on {}://{}:{}/ ({}; {} pictures/s at most, camera pixels {})",
                options.access.tls ? "https" : "http", options.endpoint.host, live.port(), options.access.describe(),
                h.fps, h.camera_pixels ? "shown" : "hidden");

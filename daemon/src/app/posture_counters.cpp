@@ -1,4 +1,4 @@
-#include "posture_counters.hpp"
+#include "app/posture_counters.hpp"
 
 namespace spinewatch {
 

@@ -7,8 +7,8 @@
 #include <atomic>
 #include <cstdint>
 
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/latency_histogram.hpp"
+#include "http/daemon_metrics.hpp"
+#include "http/latency_histogram.hpp"
 #include "spinewatch/estimator/posture.hpp"
 
 namespace spinewatch {

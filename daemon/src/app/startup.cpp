@@ -1,13 +1,15 @@
-#include "startup.hpp"
+#include "app/startup.hpp"
 
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "access/network_access.hpp"
+#include "net/unix_listener.hpp"
 #include "spinewatch/capture/recording.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
+#include "support/station_dirs.hpp"
 
 namespace spinewatch {
 
@@ -93,7 +95,7 @@ Result<PublisherOptions> publisher_options(const Config& config, const DaemonOve
     // Safe by default (docs/security.md): the stream is health data about
     // identifiable workers; a network bind needs TLS and an authentication,
     // or the site's explicit acceptance.
-    if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
+    if (exposed_unprotected(*endpoint, *access) && !c.allow_unauthenticated)
       return Error{fmt::format(
           "{}{}: not a loopback address, and the posture stream is not protected ({}): anyone who can reach the "
           "port would read the workers' postures. Set [publish] tls_cert and tls_key with token_file or "
@@ -134,7 +136,7 @@ Result<std::optional<HttpOptions>> http_options(const Config& config, const Daem
   const Config::Http& c = config.http;
   auto access = load_access({c.tls_cert, c.tls_key, c.tls_client_ca, c.token_file}, "http");
   if (!access) return access.error();
-  if (!is_loopback(*endpoint) && !access->safe_for_network() && !c.allow_unauthenticated)
+  if (exposed_unprotected(*endpoint, *access) && !c.allow_unauthenticated)
     return Error{fmt::format(
         "{}{}: not a loopback address, and the live view is not protected ({}): anyone who can reach the port "
         "would see the station's views and the workers' postures. Set [http] tls_cert and tls_key with token_file "

@@ -6,13 +6,13 @@
 #include <optional>
 #include <string>
 
+#include "exposure/alert_output.hpp"
+#include "http/http_server.hpp"
+#include "publish/publisher.hpp"
+#include "source/source_plan.hpp"
 #include "spinewatch/capture/background_images.hpp"
-#include "spinewatch/daemon/alert_output.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/daemon.hpp"
-#include "spinewatch/daemon/http_server.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/source_plan.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 
 namespace spinewatch {

@@ -1,4 +1,4 @@
-#include "trigger_monitor.hpp"
+#include "app/trigger_monitor.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -1,11 +1,11 @@
-#include "worker_desk.hpp"
+#include "app/worker_desk.hpp"
 
 #include <utility>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/client_command.hpp"
+#include "ops/client_command.hpp"
 
 namespace spinewatch {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Who is being measured: the worker a client's set_worker or a reload
-// names, handed from the thread that hears of it (the publisher's I/O
+// names, handed from the thread that hears of it (the network loop's
 // thread, the control thread) to the estimator thread, which takes it up
 // before its next pair. Ids become pseudonyms here, before anything
 // stores, publishes or logs them (privacy.pseudonymise, docs/security.md).
@@ -9,9 +9,9 @@
 #include <string>
 #include <string_view>
 
+#include "access/pseudonym.hpp"
+#include "publish/publisher.hpp"
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/pseudonym.hpp"
-#include "spinewatch/daemon/publisher.hpp"
 
 namespace spinewatch {
 
@@ -23,7 +23,7 @@ class WorkerDesk {
   // worker needs no state directory.
   Status open_explicit_secret();
 
-  // The publisher's I/O thread: one line a client sent.
+  // The network loop's thread: one line a publisher's client sent.
   ClientInputReply on_client_line(std::string_view line, const std::string& client);
   // Any thread: `worker` measures from the next pair on; `by` for the log.
   void set(const KnownWorker& worker, std::string_view by, std::optional<std::string> id = std::nullopt);

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/alert_output.hpp"
+#include "exposure/alert_output.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

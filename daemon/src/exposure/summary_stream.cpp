@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/summary_stream.hpp"
+#include "exposure/summary_stream.hpp"
 
 #include <time.h>
 

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/http_routes.hpp"
+#include "http/http_routes.hpp"
 
 namespace spinewatch {
 namespace {

@@ -1,11 +1,11 @@
-#include "spinewatch/daemon/http_server.hpp"
+#include "http/http_server.hpp"
 
 #include <future>
 
 #include <boost/asio/ssl.hpp>
 
-#include "../net/tcp_listener.hpp"
-#include "http_session.hpp"
+#include "http/http_session.hpp"
+#include "net/tcp_listener.hpp"
 
 namespace spinewatch {
 
@@ -97,21 +97,26 @@ void HttpServer::on_frame(std::shared_ptr<const LiveFrame> frame) {
 
 void HttpServer::stop() {
   if (std::exchange(stop_called_, true)) return;
+  const auto close = [impl = impl_] {
+    if (impl->stopped) return;
+    impl->stopped = true;
+    boost::system::error_code ignored;
+    if (impl->acceptor) impl->acceptor->close(ignored);
+    std::vector<std::shared_ptr<SessionBase>> all(impl->sessions.begin(), impl->sessions.end());
+    for (auto& s : all) s->close();
+    impl->latest.reset();
+    impl->latest_picture.reset();
+  };
+  // The loop already stopped (the daemon after a failed start): no thread
+  // runs it, so the server is closed from here.
+  if (impl_->io.stopped()) return close();
   auto done = std::make_shared<std::promise<void>>();
   auto future = done->get_future();
-  asio::post(impl_->io, [impl = impl_, done] {
-    if (!impl->stopped) {
-      impl->stopped = true;
-      boost::system::error_code ignored;
-      if (impl->acceptor) impl->acceptor->close(ignored);
-      std::vector<std::shared_ptr<SessionBase>> all(impl->sessions.begin(), impl->sessions.end());
-      for (auto& s : all) s->close();
-      impl->latest.reset();
-      impl->latest_picture.reset();
-    }
+  asio::post(impl_->io, [close, done] {
+    close();
     done->set_value();
   });
-  // The I/O thread may already be gone (then the handler is dropped with it).
+  // The loop may stop meanwhile (then the handler is dropped with it).
   future.wait_for(std::chrono::seconds(1));
 }
 

@@ -13,7 +13,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/http_server.hpp"
+#include "http/http_server.hpp"
 
 namespace spinewatch {
 

@@ -18,10 +18,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "http_server_impl.hpp"
+#include "http/http_routes.hpp"
+#include "http/http_server_impl.hpp"
+#include "pipeline/pipeline.hpp"
 #include "spinewatch/frames/clock.hpp"
-#include "spinewatch/daemon/http_routes.hpp"
-#include "spinewatch/daemon/pipeline.hpp"
 
 namespace spinewatch {
 

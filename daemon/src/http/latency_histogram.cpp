@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/latency_histogram.hpp"
+#include "http/latency_histogram.hpp"
 
 #include <algorithm>
 

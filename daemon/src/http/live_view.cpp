@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/live_view.hpp"
+#include "http/live_view.hpp"
 
 #include <chrono>
 
@@ -6,7 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/pipeline.hpp"
+#include "pipeline/pipeline.hpp"
 #include "spinewatch/frames/clock.hpp"
 #include "spinewatch/overlay/overlay.hpp"
 

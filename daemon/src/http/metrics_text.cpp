@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 
-#include "spinewatch/daemon/daemon_metrics.hpp"
+#include "http/daemon_metrics.hpp"
 
 namespace spinewatch {
 namespace {

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/state_json.hpp"
+#include "http/state_json.hpp"
 
 #include <nlohmann/json.hpp>
 

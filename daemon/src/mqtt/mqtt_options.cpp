@@ -5,9 +5,9 @@
 
 #include <fmt/format.h>
 
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/station_dirs.hpp"
+#include "mqtt/mqtt_publisher.hpp"
 #include "spinewatch/frames/text_file.hpp"
+#include "support/station_dirs.hpp"
 
 namespace spinewatch {
 namespace {

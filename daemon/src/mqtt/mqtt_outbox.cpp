@@ -1,8 +1,8 @@
-#include "spinewatch/daemon/mqtt_outbox.hpp"
+#include "mqtt/mqtt_outbox.hpp"
 
 #include <fmt/format.h>
 
-#include "../storage/sqlite_db.hpp"
+#include "storage/sqlite_db.hpp"
 
 namespace spinewatch {
 

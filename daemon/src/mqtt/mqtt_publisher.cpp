@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/mqtt_publisher.hpp"
+#include "mqtt/mqtt_publisher.hpp"
 
 #include <mosquitto.h>
 
@@ -14,8 +14,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/bounded_queue.hpp"
-#include "spinewatch/daemon/mqtt_outbox.hpp"
+#include "mqtt/mqtt_outbox.hpp"
+#include "support/bounded_queue.hpp"
 
 namespace spinewatch {
 namespace {

@@ -1,4 +1,4 @@
-#include "tcp_listener.hpp"
+#include "net/tcp_listener.hpp"
 
 #include <fmt/format.h>
 

@@ -8,7 +8,7 @@
 
 #include <boost/asio.hpp>
 
-#include "spinewatch/daemon/publisher.hpp"
+#include "spinewatch/daemon/endpoint.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch::net {

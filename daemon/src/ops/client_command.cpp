@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/client_command.hpp"
+#include "ops/client_command.hpp"
 
 #include <algorithm>
 #include <cctype>

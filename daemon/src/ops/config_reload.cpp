@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/config_reload.hpp"
+#include "ops/config_reload.hpp"
 
 namespace spinewatch {
 

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/notifier.hpp"
+#include "ops/notifier.hpp"
 
 #include <systemd/sd-daemon.h>
 

@@ -1,4 +1,4 @@
-#include "sinks.hpp"
+#include "outputs/sinks.hpp"
 
 namespace spinewatch {
 

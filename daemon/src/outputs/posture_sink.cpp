@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/note_level.hpp"
+#include "support/note_level.hpp"
 
 namespace spinewatch {
 

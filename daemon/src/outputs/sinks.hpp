@@ -7,13 +7,13 @@
 #include <memory>
 #include <string>
 
-#include "spinewatch/daemon/alert_output.hpp"
-#include "spinewatch/daemon/http_server.hpp"
-#include "spinewatch/daemon/live_view.hpp"
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/posture_sink.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/store.hpp"
+#include "exposure/alert_output.hpp"
+#include "http/http_server.hpp"
+#include "http/live_view.hpp"
+#include "mqtt/mqtt_publisher.hpp"
+#include "outputs/posture_sink.hpp"
+#include "publish/publisher.hpp"
+#include "storage/store.hpp"
 
 namespace spinewatch {
 
@@ -99,7 +99,7 @@ class AlertLineSink final : public PostureSink {
 };
 
 // The HTTP server ([http], docs/daemon.md "Live view") and the live view
-// whose pictures it serves; the server runs on the publisher's I/O thread.
+// whose pictures it serves; the server runs on the daemon's network loop.
 class LiveViewSink final : public PostureSink {
  public:
   // Starts the live view's render thread; the server comes with start().

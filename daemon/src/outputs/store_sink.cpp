@@ -1,6 +1,6 @@
 #include <fmt/format.h>
 
-#include "sinks.hpp"
+#include "outputs/sinks.hpp"
 
 namespace spinewatch {
 

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/pipeline.hpp"
+#include "pipeline/pipeline.hpp"
 
 #include <time.h>
 

@@ -1,6 +1,6 @@
 #pragma once
 // One connected client of the publisher (private to it). Runs only on the
-// publisher's I/O thread, so it needs no locks. It owns a bounded queue of
+// network loop's thread, so it needs no locks. It owns a bounded queue of
 // lines; overflowing it, or sending more than a trickle of input, ends the
 // session as a drop. What the client sends is cut into lines and handed to
 // the publisher's command handler, whose reply goes to this client alone.
@@ -21,8 +21,8 @@
 #include <boost/asio.hpp>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/daemon/access.hpp"
-#include "spinewatch/daemon/publisher.hpp"
+#include "access/access.hpp"
+#include "publish/publisher.hpp"
 
 namespace spinewatch::detail {
 

@@ -1,11 +1,8 @@
-#include "spinewatch/daemon/publisher.hpp"
+#include "publish/publisher.hpp"
 
 #include <sys/socket.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <chrono>
-#include <cstring>
 #include <future>
 #include <map>
 #include <mutex>
@@ -18,8 +15,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "../net/tcp_listener.hpp"
-#include "client_session.hpp"
+#include "net/network_loop.hpp"
+#include "net/tcp_listener.hpp"
+#include "net/unix_listener.hpp"
+#include "publish/client_session.hpp"
 
 namespace spinewatch {
 
@@ -31,9 +30,12 @@ using detail::CloseKind;
 using detail::Line;
 
 struct Publisher::Impl {
-  // Declared first so that it is destroyed last, after every socket.
-  asio::io_context io;
-  asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
+  Impl(asio::io_context& context, std::unique_ptr<net::NetworkLoop> loop) : own_loop(std::move(loop)), io(context) {}
+
+  // A loop of its own (start() without one): declared first so that it is
+  // destroyed last, after every socket.
+  std::unique_ptr<net::NetworkLoop> own_loop;
+  asio::io_context& io;
   PublisherOptions options;
   std::optional<tcp::acceptor> tcp_acceptor;
   std::optional<unix_socket::acceptor> unix_acceptor;
@@ -51,7 +53,6 @@ struct Publisher::Impl {
   std::size_t handshaking = 0;     // TLS handshakes under way (I/O thread only); count against max_clients
   LogLimiter refusal_log;          // a scan or a misconfigured client must not flood the journal
   std::atomic<std::uint64_t> lines{0}, lines_dropped{0};
-  std::thread thread;
   bool stopped = false;
   bool owns_unix_path = false;  // only a socket we bound is removed on stop
   bool stopped_io = false;      // I/O thread: stop() has begun; handshakes still ending are not failures
@@ -225,52 +226,32 @@ Status bind_tcp(asio::io_context& io, const TcpEndpoint& where, std::optional<tc
   return Ok{};
 }
 
-// A socket file left by a daemon that died is removed; one that a live
-// daemon still answers on is not stolen.
-Status remove_stale_socket(asio::io_context& io, const std::filesystem::path& path) {
-  std::error_code fs_ec;
-  const auto status = std::filesystem::symlink_status(path, fs_ec);
-  if (fs_ec || !std::filesystem::exists(status)) return Ok{};
-  if (!std::filesystem::is_socket(status))
-    return Error{fmt::format("unix socket {}: exists and is not a socket", path.string())};
-  unix_socket::socket probe(io);
-  boost::system::error_code ec;
-  probe.connect(unix_socket::endpoint(path.string()), ec);
-  if (!ec) return Error{fmt::format("unix socket {}: another process is listening on it", path.string())};
-  if (!std::filesystem::remove(path, fs_ec) && fs_ec)
-    return Error{fmt::format("unix socket {}: cannot remove the stale socket: {}", path.string(), fs_ec.message())};
-  spdlog::info("publisher: removed stale socket {}", path.string());
-  return Ok{};
-}
-
-Status bind_unix(asio::io_context& io, const std::filesystem::path& path, std::optional<unsigned> gid,
-                 std::optional<unix_socket::acceptor>& out) {
-  if (auto removed = remove_stale_socket(io, path); !removed) return removed;
-  boost::system::error_code ec;
-  unix_socket::acceptor acceptor(io);
-  if (acceptor.open(unix_socket(), ec); ec) return Error{fmt::format("unix socket {}: {}", path.string(), ec.message())};
-  if (acceptor.bind(unix_socket::endpoint(path.string()), ec); ec)
-    return Error{fmt::format("unix socket {}: cannot bind: {} (--unix PATH or [publish] unix_socket chooses another "
-                             "path, --unix none turns the socket off)", path.string(), ec.message())};
-  if (::chmod(path.c_str(), 0660) != 0)
-    return Error{fmt::format("unix socket {}: cannot set mode 0660: {}", path.string(), std::strerror(errno))};
-  // Readers in that group (systemd: SupplementaryGroups=) may connect; a
-  // process may give its file to any group it is a member of.
-  if (gid && ::chown(path.c_str(), static_cast<uid_t>(-1), static_cast<gid_t>(*gid)) != 0)
-    return Error{fmt::format("unix socket {}: cannot give it to group {} (publish.unix_socket_group; the daemon must be "
-                             "a member): {}", path.string(), *gid, std::strerror(errno))};
-  if (acceptor.listen(asio::socket_base::max_listen_connections, ec); ec)
-    return Error{fmt::format("unix socket {}: cannot listen: {}", path.string(), ec.message())};
-  out.emplace(std::move(acceptor));
+Status bind_unix(asio::io_context& io, const net::UnixEndpoint& where, std::optional<unix_socket::acceptor>& out) {
+  auto acceptor = net::listen_unix(io, where);
+  if (!acceptor) return acceptor.error();
+  out.emplace(std::move(acceptor).value());
   return Ok{};
 }
 
 }  // namespace
 
-Publisher::Publisher() : impl_(std::make_unique<Impl>()) {}
+Publisher::Publisher() = default;
 
 Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& options, std::string hello_line) {
+  auto loop = std::make_unique<net::NetworkLoop>("publisher");
+  asio::io_context& io = loop->io();
+  return start(io, options, std::move(hello_line), std::move(loop));
+}
+
+Result<std::unique_ptr<Publisher>> Publisher::start(asio::io_context& io, const PublisherOptions& options,
+                                                    std::string hello_line) {
+  return start(io, options, std::move(hello_line), nullptr);
+}
+
+Result<std::unique_ptr<Publisher>> Publisher::start(asio::io_context& io, const PublisherOptions& options,
+                                                    std::string hello_line, std::unique_ptr<net::NetworkLoop> own_loop) {
   std::unique_ptr<Publisher> p(new Publisher());
+  p->impl_ = std::make_unique<Impl>(io, std::move(own_loop));
   Impl& impl = *p->impl_;
   impl.options = options;
   if (impl.options.client_queue == 0) impl.options.client_queue = 1;
@@ -279,19 +260,13 @@ Result<std::unique_ptr<Publisher>> Publisher::start(const PublisherOptions& opti
   if (options.tcp)
     if (auto bound = bind_tcp(impl.io, *options.tcp, impl.tcp_acceptor, impl.tcp_port); !bound) return bound.error();
   if (options.unix_socket)
-    if (auto bound = bind_unix(impl.io, *options.unix_socket, options.unix_socket_gid, impl.unix_acceptor); !bound) return bound.error();
+    if (auto bound = bind_unix(impl.io, {*options.unix_socket, options.unix_socket_gid}, impl.unix_acceptor); !bound)
+      return bound.error();
   impl.owns_unix_path = impl.unix_acceptor.has_value();
-  if (impl.tcp_acceptor) impl.accept_next(*impl.tcp_acceptor, "tcp");
-  if (impl.unix_acceptor) impl.accept_next(*impl.unix_acceptor, "unix");
-  impl.thread = std::thread([&impl] {
-    for (;;) {
-      try {
-        impl.io.run();
-        return;
-      } catch (const std::exception& e) {
-        spdlog::error("publisher: {}", e.what());  // keep serving
-      }
-    }
+  // The loop already runs: the acceptors are used from its thread from here on.
+  asio::post(impl.io, [&impl] {
+    if (impl.tcp_acceptor) impl.accept_next(*impl.tcp_acceptor, "tcp");
+    if (impl.unix_acceptor) impl.accept_next(*impl.unix_acceptor, "unix");
   });
   return p;
 }
@@ -326,7 +301,9 @@ void Publisher::stop() {
     if (impl.stopped) return;
     impl.stopped = true;
   }
-  if (impl.thread.joinable()) {
+  // A clean end for clients while the loop runs; the daemon stops its
+  // servers before its network loop.
+  if (!impl.io.stopped()) {
     impl.run_on_io([&] {
       impl.stopped_io = true;
       impl.drain();
@@ -344,11 +321,10 @@ void Publisher::stop() {
       for (auto& [key, s] : impl.clients) all.push_back(s);
       for (auto& s : all) s->close(CloseKind::Normal, "daemon stopped");
     });
-    impl.work.reset();
-    impl.io.stop();
-    impl.thread.join();
   }
-  impl.close_acceptors();
+  if (impl.own_loop) impl.own_loop->stop();
+  // No thread runs the loop any more (else they were closed on it above).
+  if (impl.io.stopped()) impl.close_acceptors();
   if (impl.owns_unix_path) {
     std::error_code ignored;
     std::filesystem::remove(*impl.options.unix_socket, ignored);

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/stream_lines.hpp"
+#include "publish/stream_lines.hpp"
 
 #include <nlohmann/json.hpp>
 

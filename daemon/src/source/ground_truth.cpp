@@ -1,4 +1,4 @@
-#include "ground_truth.hpp"
+#include "source/ground_truth.hpp"
 
 #include <fstream>
 

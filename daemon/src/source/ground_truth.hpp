@@ -10,7 +10,7 @@
 #include <optional>
 #include <vector>
 
-#include "spinewatch/daemon/daemon_metrics.hpp"
+#include "http/daemon_metrics.hpp"
 #include "spinewatch/estimator/posture.hpp"
 #include "spinewatch/frames/result.hpp"
 

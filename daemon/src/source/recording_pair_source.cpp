@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/recording_pair_source.hpp"
+#include "source/recording_pair_source.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

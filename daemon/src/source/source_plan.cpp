@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/source_plan.hpp"
+#include "source/source_plan.hpp"
 
 #include <cstdlib>
 

@@ -1,4 +1,4 @@
-#include "sqlite_db.hpp"
+#include "storage/sqlite_db.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/store.hpp"
+#include "storage/store.hpp"
 
 #include <time.h>
 
@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "sqlite_db.hpp"
+#include "storage/sqlite_db.hpp"
 
 namespace spinewatch {
 namespace {
@@ -34,6 +34,14 @@ CREATE TABLE IF NOT EXISTS events(stored_ns INTEGER NOT NULL, level TEXT NOT NUL
 )";
 
 }  // namespace
+
+StoreOptions store_options(const Config& config) {
+  StoreOptions o;
+  o.path = config.storage.path;
+  o.retention_days = config.storage.retention_days;
+  o.max_size_mb = config.storage.max_size_mb;
+  return o;
+}
 
 std::int64_t realtime_ns() {
   timespec ts{};

@@ -9,7 +9,7 @@
 
 #include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
-#include "nearest_name.hpp"
+#include "support/nearest_name.hpp"
 
 namespace spinewatch {
 namespace {

@@ -5,7 +5,7 @@
 // A key applied by a reload without a restart says .live() and is applied
 // in the daemon's reload.
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/mqtt_url.hpp"
+#include "support/mqtt_url.hpp"
 
 namespace spinewatch {
 

@@ -21,12 +21,4 @@ Result<std::vector<AlertRule>> load_alert_rules(const Config& config) {
   return parse_alert_rules(text.str(), config.alerts.rules);
 }
 
-StoreOptions store_options(const Config& config) {
-  StoreOptions o;
-  o.path = config.storage.path;
-  o.retention_days = config.storage.retention_days;
-  o.max_size_mb = config.storage.max_size_mb;
-  return o;
-}
-
 }  // namespace spinewatch

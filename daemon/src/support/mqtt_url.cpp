@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/mqtt_url.hpp"
+#include "support/mqtt_url.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -1,4 +1,4 @@
-#include "spinewatch/daemon/station_dirs.hpp"
+#include "support/station_dirs.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "../common/toml_fields.hpp"
+#include "common/toml_fields.hpp"
 
 namespace spinewatch {
 

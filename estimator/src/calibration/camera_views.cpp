@@ -1,4 +1,4 @@
-#include "camera_views.hpp"
+#include "calibration/camera_views.hpp"
 
 #include <algorithm>
 #include <cmath>

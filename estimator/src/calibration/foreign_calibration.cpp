@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
-#include "foreign_readers.hpp"
+#include "calibration/foreign_readers.hpp"
 #include "spinewatch/frames/text_file.hpp"
 
 namespace spinewatch {

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "foreign_readers.hpp"
+#include "calibration/foreign_readers.hpp"
 
 namespace spinewatch::foreign_detail {
 namespace {

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "foreign_readers.hpp"
+#include "calibration/foreign_readers.hpp"
 
 namespace spinewatch::foreign_detail {
 namespace {

@@ -11,8 +11,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include "camera_views.hpp"
-#include "stereo.hpp"
+#include "calibration/camera_views.hpp"
+#include "calibration/stereo.hpp"
 
 namespace spinewatch {
 namespace {

@@ -1,4 +1,4 @@
-#include "stereo.hpp"
+#include "calibration/stereo.hpp"
 
 #include <algorithm>
 #include <cmath>

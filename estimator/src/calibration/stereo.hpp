@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "camera_views.hpp"
+#include "calibration/camera_views.hpp"
 
 namespace spinewatch::calibration_detail {
 

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "camera_views.hpp"
+#include "calibration/camera_views.hpp"
 
 namespace spinewatch {
 

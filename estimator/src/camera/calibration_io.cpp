@@ -17,8 +17,8 @@
 #include <Eigen/Dense>
 #include <opencv2/core/eigen.hpp>
 
+#include "camera/storage_precheck.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
-#include "storage_precheck.hpp"
 
 namespace spinewatch {
 namespace {

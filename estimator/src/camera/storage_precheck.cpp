@@ -1,4 +1,4 @@
-#include "storage_precheck.hpp"
+#include "camera/storage_precheck.hpp"
 
 #include <fmt/format.h>
 

@@ -2,7 +2,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "../common/toml_fields.hpp"
+#include "common/toml_fields.hpp"
 
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 

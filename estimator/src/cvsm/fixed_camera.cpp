@@ -1,4 +1,4 @@
-#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
+#include "cvsm/fixed_camera.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "occluder_edge.hpp"
+#include "cvsm/occluder_edge.hpp"
 
 #include <algorithm>
 #include <bit>

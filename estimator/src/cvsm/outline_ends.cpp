@@ -1,4 +1,4 @@
-#include "spinewatch/estimator/cvsm/outline_ends.hpp"
+#include "cvsm/outline_ends.hpp"
 
 #include <algorithm>
 #include <utility>

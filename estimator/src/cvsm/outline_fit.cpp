@@ -1,4 +1,4 @@
-#include "outline_fit.hpp"
+#include "cvsm/outline_fit.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -25,10 +25,10 @@
 
 #include <Eigen/Core>
 
+#include "cvsm/outline_ends.hpp"
+#include "cvsm/silhouette_edges.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
-#include "spinewatch/estimator/cvsm/outline_ends.hpp"
-#include "spinewatch/estimator/cvsm/silhouette_edges.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch::cvsm_detail {
 

@@ -1,4 +1,4 @@
-#include "pelvis_in_view.hpp"
+#include "cvsm/pelvis_in_view.hpp"
 
 #include "spinewatch/estimator/vertebra_levels.hpp"
 

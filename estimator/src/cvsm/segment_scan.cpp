@@ -1,10 +1,10 @@
-#include "spinewatch/estimator/cvsm/segment_scan.hpp"
+#include "cvsm/segment_scan.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "lanes.hpp"
+#include "cvsm/lanes.hpp"
 
 namespace spinewatch {
 namespace {

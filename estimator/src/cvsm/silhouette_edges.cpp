@@ -1,4 +1,4 @@
-#include "spinewatch/estimator/cvsm/silhouette_edges.hpp"
+#include "cvsm/silhouette_edges.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,12 +1,12 @@
-#include "subject_estimate.hpp"
+#include "cvsm/subject_estimate.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
 
-#include "coordinate_search.hpp"
-#include "upright_view.hpp"
+#include "cvsm/coordinate_search.hpp"
+#include "cvsm/upright_view.hpp"
 #include "spinewatch/estimator/anatomy/spine_depth.hpp"
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
 

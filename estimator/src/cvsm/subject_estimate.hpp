@@ -2,8 +2,8 @@
 // The subject-specific model (the paper's future work (2)): height, trunk
 // widths and depths and the subject's place, measured from the first
 // upright silhouettes and refined by the same XOR fit.
+#include "cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
 
 namespace spinewatch::cvsm_detail {
 

@@ -1,4 +1,4 @@
-#include "subject_heading.hpp"
+#include "cvsm/subject_heading.hpp"
 
 #include <cmath>
 #include <vector>

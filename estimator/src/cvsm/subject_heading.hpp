@@ -7,7 +7,7 @@
 
 #include "spinewatch/estimator/cvsm/heading_range.hpp"
 
-#include "subject_estimate.hpp"
+#include "cvsm/subject_estimate.hpp"
 
 namespace spinewatch::cvsm_detail {
 

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 namespace {

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coordinate_search.hpp"
-#include "occluder_edge.hpp"
-#include "pelvis_in_view.hpp"
-#include "outline_fit.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "cvsm/coordinate_search.hpp"
+#include "cvsm/occluder_edge.hpp"
+#include "cvsm/outline_fit.hpp"
+#include "cvsm/pelvis_in_view.hpp"
+#include "cvsm/subject_estimate.hpp"
+#include "cvsm/subject_heading.hpp"
+#include "cvsm/xor_cost.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
-#include "subject_estimate.hpp"
-#include "subject_heading.hpp"
 
 namespace spinewatch {
 

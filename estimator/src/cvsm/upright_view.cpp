@@ -1,4 +1,4 @@
-#include "upright_view.hpp"
+#include "cvsm/upright_view.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "cvsm/xor_cost.hpp"
 
-#include "lanes.hpp"
-#include "spinewatch/estimator/cvsm/segment_scan.hpp"
+#include "cvsm/lanes.hpp"
+#include "cvsm/segment_scan.hpp"
 
 #include <algorithm>
 #include <array>

@@ -4,7 +4,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "../common/toml_fields.hpp"
+#include "common/toml_fields.hpp"
 
 namespace spinewatch {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "spinewatch/estimator/posture_json.hpp"
 
-#include "../common/json_number.hpp"
+#include "common/json_number.hpp"
 
 namespace spinewatch {
 namespace {

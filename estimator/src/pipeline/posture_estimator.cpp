@@ -11,11 +11,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "silhouette/person_prior.hpp"
 #include "spinewatch/estimator/anatomy/kinematics.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 #include "spinewatch/estimator/load/ergonomics.hpp"
 #include "spinewatch/estimator/load/schultz.hpp"
-#include "spinewatch/estimator/silhouette/person_prior.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/estimator/spine/spine_dynamics.hpp"
 #include "spinewatch/estimator/spine/spine_model.hpp"

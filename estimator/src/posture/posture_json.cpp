@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "../common/json_number.hpp"
+#include "common/json_number.hpp"
 
 namespace spinewatch {
 namespace {

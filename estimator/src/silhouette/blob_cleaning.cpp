@@ -5,7 +5,7 @@
 #include <numeric>
 #include <vector>
 
-#include "blob_fragments.hpp"
+#include "silhouette/blob_fragments.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 
 namespace spinewatch {

@@ -1,4 +1,4 @@
-#include "spinewatch/estimator/silhouette/person_prior.hpp"
+#include "silhouette/person_prior.hpp"
 
 #include <vector>
 

@@ -6,8 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "silhouette/threshold_row.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
 #include "spinewatch/frames/printable.hpp"
 
 namespace spinewatch {

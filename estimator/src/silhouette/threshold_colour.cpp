@@ -24,7 +24,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
+#include "silhouette/threshold_row.hpp"
 
 #if defined(__SSE2__) && !defined(SPINEWATCH_LANES_GENERIC)
 #include <emmintrin.h>

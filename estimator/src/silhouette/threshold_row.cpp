@@ -1,4 +1,4 @@
-#include "spinewatch/estimator/silhouette/threshold_row.hpp"
+#include "silhouette/threshold_row.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -17,7 +17,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "block_tridiagonal.hpp"
+#include "spine/block_tridiagonal.hpp"
 
 namespace spinewatch {
 namespace {

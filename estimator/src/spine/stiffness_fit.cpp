@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "../common/toml_fields.hpp"
+#include "common/toml_fields.hpp"
 
 namespace spinewatch {
 

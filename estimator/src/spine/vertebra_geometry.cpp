@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "../common/toml_fields.hpp"
+#include "common/toml_fields.hpp"
 
 namespace spinewatch {
 namespace {

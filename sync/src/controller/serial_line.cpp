@@ -1,4 +1,4 @@
-#include "spinewatch/sync/serial_line.hpp"
+#include "controller/serial_line.hpp"
 
 #include <termios.h>
 

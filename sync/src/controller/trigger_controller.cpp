@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "spinewatch/sync/serial_line.hpp"
+#include "controller/serial_line.hpp"
 
 namespace spinewatch::sync {
 

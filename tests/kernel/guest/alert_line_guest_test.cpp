@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "exposure/alert_output.hpp"
 #include "guest_env.hpp"
-#include "spinewatch/daemon/alert_output.hpp"
 #include "spinewatch/sync/gpiod_trigger_line.hpp"
 
 namespace spinewatch::kernel_test {

@@ -25,8 +25,8 @@
 
 #include "driver_query.hpp"
 #include "guest_env.hpp"
+#include "pipeline/pipeline.hpp"
 #include "spinewatch/daemon/camera_pair_source.hpp"
-#include "spinewatch/daemon/pipeline.hpp"
 #include "vivid_controls.hpp"
 
 namespace spinewatch::kernel_test {

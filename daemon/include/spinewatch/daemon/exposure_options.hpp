@@ -3,7 +3,6 @@
 // ([exposure]; the limits are config/segments.toml's, as the per-frame
 // ergonomic flags have them).
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/store.hpp"
 #include "spinewatch/estimator/load/alerts.hpp"
 #include "spinewatch/estimator/load/exposure_accumulator.hpp"
 
@@ -13,7 +12,5 @@ ExposureOptions exposure_options(const Config& config);
 // [alerts]: the rules (none when alerts.enabled is false; the built-in
 // ones when alerts.rules is ""); an error names the file, line and key.
 Result<std::vector<AlertRule>> load_alert_rules(const Config& config);
-// [storage]: the database's settings.
-StoreOptions store_options(const Config& config);
 
 }  // namespace spinewatch

@@ -6,8 +6,8 @@
 #include <array>
 #include <cstdint>
 
-#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
-#include "spinewatch/estimator/cvsm/xor_cost.hpp"
+#include "cvsm/fixed_camera.hpp"
+#include "cvsm/xor_cost.hpp"
 
 namespace spinewatch {
 

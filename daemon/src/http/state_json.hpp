@@ -5,7 +5,7 @@
 // from) and the daemon's counters and rates.
 #include <string>
 
-#include "spinewatch/daemon/daemon_metrics.hpp"
+#include "http/daemon_metrics.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 
 namespace spinewatch {

@@ -2,7 +2,8 @@
 // The daemon's HTTP server (docs/interfaces.md §5; docs/daemon.md, "Live view"):
 // the live view page, /stream (MJPEG), /snapshot, /state, /metrics and
 // POST /background/relearn, with Boost.Beast on an existing io_context
-// (the publisher's I/O thread), never on the estimator thread.
+// (the daemon's network loop, net/network_loop.hpp), never on the
+// estimator thread.
 //
 // Nothing a client does can stall the daemon: a connection limit (further
 // ones are answered 503 and closed at once), a header size limit (431 and
@@ -16,11 +17,11 @@
 #include <memory>
 #include <string>
 
-#include "spinewatch/daemon/access.hpp"
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/live_view.hpp"
-#include "spinewatch/daemon/publisher.hpp"
-#include "spinewatch/daemon/state_json.hpp"
+#include "access/access.hpp"
+#include "http/daemon_metrics.hpp"
+#include "http/live_view.hpp"
+#include "http/state_json.hpp"
+#include "spinewatch/daemon/endpoint.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {
@@ -54,8 +55,8 @@ class HttpServer {
 
   // From any thread (the live view's): a new sample, with or without a picture.
   void on_frame(std::shared_ptr<const LiveFrame> frame);
-  // From a thread other than the I/O thread, while it still runs: closes
-  // the listener and every connection and waits (up to a second) until
+  // From a thread other than the I/O thread: closes the listener and every
+  // connection and, while the loop runs, waits (up to a second) until
   // their handlers are done. Idempotent.
   void stop();
 

@@ -9,13 +9,13 @@
 #include <string>
 #include <string_view>
 
-#include "spinewatch/daemon/daemon_metrics.hpp"
-#include "spinewatch/daemon/note_level.hpp"
-#include "spinewatch/daemon/stream_lines.hpp"
-#include "spinewatch/daemon/summary_stream.hpp"
+#include "exposure/summary_stream.hpp"
+#include "http/daemon_metrics.hpp"
+#include "publish/stream_lines.hpp"
 #include "spinewatch/estimator/load/alerts.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
+#include "support/note_level.hpp"
 
 namespace spinewatch {
 

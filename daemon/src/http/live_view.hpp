@@ -19,7 +19,6 @@
 #include <string>
 #include <thread>
 
-#include "spinewatch/daemon/bounded_queue.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
@@ -28,6 +27,7 @@
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/estimator/silhouette/view_coverage.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
+#include "support/bounded_queue.hpp"
 
 namespace spinewatch {
 

@@ -22,10 +22,10 @@
 
 #include <Eigen/Core>
 
+#include "cvsm/fixed_camera.hpp"
+#include "cvsm/outline_ends.hpp"
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
-#include "spinewatch/estimator/cvsm/outline_ends.hpp"
-#include "spinewatch/estimator/cvsm/fixed_camera.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/frames/view.hpp"
 

@@ -7,11 +7,11 @@
 #include <optional>
 #include <string>
 
-#include "spinewatch/daemon/latency_histogram.hpp"
-#include "spinewatch/daemon/live_view.hpp"
-#include "spinewatch/daemon/mqtt_publisher.hpp"
-#include "spinewatch/daemon/pipeline.hpp"
-#include "spinewatch/daemon/publisher.hpp"
+#include "http/latency_histogram.hpp"
+#include "http/live_view.hpp"
+#include "mqtt/mqtt_publisher.hpp"
+#include "pipeline/pipeline.hpp"
+#include "publish/publisher.hpp"
 
 namespace spinewatch {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Publishes NDJSON lines to every client of a TCP port and a Unix socket,
-// on its own Boost.Asio thread (docs/interfaces.md §5). Each client gets the hello
+// on the daemon's network loop (docs/interfaces.md §5). Each client gets the hello
 // line first, then every published line in order. A client that does not
 // keep up overflows its bounded queue and is dropped; what clients send is
 // cut into lines for the command handler (or thrown away without one), and
@@ -16,19 +16,19 @@
 #include <optional>
 #include <string>
 
-#include "spinewatch/daemon/access.hpp"
+#include "access/access.hpp"
+#include "spinewatch/daemon/endpoint.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace boost::asio {
 class io_context;
 }
 
-namespace spinewatch {
+namespace spinewatch::net {
+class NetworkLoop;
+}
 
-struct TcpEndpoint {
-  std::string host;        // numeric address or name, e.g. "127.0.0.1", "::"
-  std::uint16_t port = 0;  // 0: any free port (tests)
-};
+namespace spinewatch {
 
 // What the publisher does with one line a client sent.
 struct ClientInputReply {
@@ -75,20 +75,16 @@ struct PublisherStats {
   std::size_t inbox_capacity = 0;
 };
 
-// "HOST:PORT" ("[::1]:7117" for IPv6) → endpoint; "none" is the caller's business.
-Result<TcpEndpoint> parse_listen_address(const std::string& text);
-// Only this machine can connect: a numeric loopback address (127.0.0.0/8,
-// ::1) or "localhost". A name that must be resolved is not loopback.
-bool is_loopback(const TcpEndpoint& endpoint);
-// A group's id by name (publish.unix_socket_group); errors name `key` and the group.
-Result<unsigned> group_id(const std::string& name, std::string_view key);
-// posture.sock in the runtime directory: $RUNTIME_DIRECTORY (systemd), else
-// /run/spinewatch when writable, else the user's (station_dirs.hpp).
-Result<std::filesystem::path> default_unix_socket_path();
-
 class Publisher {
  public:
-  // Binds the sockets (removing a stale Unix socket file) and starts the I/O thread.
+  // Binds the sockets (removing a stale Unix socket file) and serves its
+  // clients on `io`, the daemon's network loop (net/network_loop.hpp),
+  // which must run until stop() has returned and stop before the
+  // publisher is destroyed.
+  static Result<std::unique_ptr<Publisher>> start(boost::asio::io_context& io, const PublisherOptions& options,
+                                                  std::string hello_line);
+  // The same on a network loop of its own, stopped with the publisher
+  // (tests; a program with no other server).
   static Result<std::unique_ptr<Publisher>> start(const PublisherOptions& options, std::string hello_line);
   ~Publisher();  // stop()
   Publisher(const Publisher&) = delete;
@@ -99,18 +95,21 @@ class Publisher {
   // The hello line for clients that connect from now on.
   void set_hello(std::string line);
   // Stops accepting, gives clients a moment to receive what is queued (whole
-  // lines only), closes them, removes the Unix socket file, joins. Idempotent.
+  // lines only), closes them, removes the Unix socket file; a loop of its
+  // own is stopped too. Once the loop has stopped, clients are just cut
+  // off. Idempotent; not from the loop's thread.
   void stop();
 
   std::uint16_t tcp_port() const;  // the bound port (0 when TCP is off)
   std::optional<std::filesystem::path> unix_socket() const;
   PublisherStats stats() const;
-  // The I/O thread's event loop, for the daemon's other servers (HTTP) to
-  // run on the same thread; valid while the publisher lives, running until stop().
+  // The event loop it serves on (tests hold its thread with it).
   boost::asio::io_context& io_context();
 
  private:
   Publisher();
+  static Result<std::unique_ptr<Publisher>> start(boost::asio::io_context& io, const PublisherOptions& options,
+                                                  std::string hello_line, std::unique_ptr<net::NetworkLoop> own_loop);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -18,8 +18,8 @@
 #include <string>
 
 #include "spinewatch/daemon/config.hpp"
-#include "spinewatch/daemon/mqtt_url.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "support/mqtt_url.hpp"
 
 namespace spinewatch {
 

@@ -13,10 +13,12 @@
 #include <thread>
 #include <vector>
 
-#include "spinewatch/daemon/bounded_queue.hpp"
-#include "spinewatch/daemon/note_level.hpp"
+#include "spinewatch/daemon/config.hpp"
+#include "spinewatch/daemon/stored_lines.hpp"
 #include "spinewatch/estimator/load/exposure_summary.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "support/bounded_queue.hpp"
+#include "support/note_level.hpp"
 
 namespace spinewatch {
 
@@ -65,17 +67,8 @@ class Store {
   bool stopped_ = false;
 };
 
-// The interval summary lines of a database, oldest first (spinewatch
-// report --db). Opened read-only; errors name the file.
-Result<std::vector<std::string>> read_stored_summary_lines(const std::filesystem::path& path);
-
-// The stored posture lines (every storage.posture_every-th), oldest first,
-// with the wall-clock time each was stored (spinewatch export --db).
-struct StoredLine {
-  std::int64_t stored_ns = 0;  // CLOCK_REALTIME when the writer took it
-  std::string line;
-};
-Result<std::vector<StoredLine>> read_stored_posture_lines(const std::filesystem::path& path);
+// [storage]: the database's settings.
+StoreOptions store_options(const Config& config);
 
 // CLOCK_REALTIME in nanoseconds.
 std::int64_t realtime_ns();

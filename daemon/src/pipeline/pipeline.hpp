@@ -9,9 +9,9 @@
 #include <memory>
 #include <thread>
 
-#include "spinewatch/daemon/bounded_queue.hpp"
 #include "spinewatch/daemon/pair_source.hpp"
 #include "spinewatch/estimator/posture.hpp"
+#include "support/bounded_queue.hpp"
 
 namespace spinewatch {
 
