@@ -50,7 +50,7 @@ Result<std::unique_ptr<MqttSink>> open_mqtt(const Config& config) {
   if (!mqtt) return mqtt.error();
   const Config::Mqtt& c = config.mqtt;
   spdlog::info("mqtt: publishing to {} under {}* (postures at {} Hz at most, QoS {}; outbox {})", c.url,
-               (*mqtt)->topic(""), c.posture_rate_hz, c.qos,
+               (*mqtt)->prefix(), c.posture_rate_hz, c.qos,
                c.outbox_path.empty() ? "in the state directory" : c.outbox_path);
   return std::make_unique<MqttSink>(std::move(mqtt).value());
 }
