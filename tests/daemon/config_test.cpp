@@ -123,6 +123,8 @@ TEST(Config, ModesAreParsedOnceIntoEnums) {
   EXPECT_EQ(to_string(ReplayPace::Fast), "fast");
   EXPECT_EQ(parse("cameras", "pixel_format", "GREY")->cameras.pixel_format, PixelFormat::GREY);
   EXPECT_EQ(parse("trigger", "mode", "master")->trigger.mode, sync::TriggerMode::Master);
+  EXPECT_EQ(defaults.log.level, LogLevel::Info);
+  for (const auto& [text, level] : log_level_names()) EXPECT_EQ(parse("log", "level", text)->log.level, level) << text;
   EXPECT_EQ(parse("trigger", "mode", "slave")->trigger.mode, sync::TriggerMode::Slave);
   EXPECT_EQ(parse("silhouette", "background", "image")->silhouette.background, BackgroundMode::Image);
   EXPECT_EQ(parse("silhouette", "background", "threshold")->silhouette.background, BackgroundMode::Threshold);

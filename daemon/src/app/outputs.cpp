@@ -37,7 +37,7 @@ std::unique_ptr<AlertLineSink> open_alert_line(const Config::Alerts& a, std::vec
     spdlog::error("{}", warnings.back());
     return std::make_unique<AlertLineSink>();
   }
-  spdlog::info("alerts: signalled on {} ({}, {}{})", (*output)->name(), a.gpio_mode,
+  spdlog::info("alerts: signalled on {} ({}, {}{})", (*output)->name(), to_string(a.gpio_mode),
                a.gpio_active_low ? "active low" : "active high", a.silent ? "; silent for now" : "");
   return std::make_unique<AlertLineSink>(std::move(output).value());
 }
