@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -42,9 +43,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", kVersion);
   app.require_subcommand(1);
   std::string log_level = "info";
-  app.add_option("--log-level", log_level, "trace, debug, info, warn or error")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
-  app.parse_complete_callback([&] { setup_logging(log_level); });
+  std::vector<std::string> level_names;
+  for (const auto& named : log_level_names()) level_names.push_back(named.first);
+  app.add_option("--log-level", log_level, "trace, debug, info, warn or error")->check(CLI::IsMember(level_names));
+  // Parsed once, here: the check above let only a level's name through.
+  app.parse_complete_callback([&] {
+    for (const auto& named : log_level_names())
+      if (named.first == log_level) setup_logging(named.second);
+  });
 
   cli::ExitCode exit_code;
   cli::add_check_command(app, exit_code);

@@ -1,7 +1,7 @@
 // Cost per posture of what the daemon's estimator thread adds to every
 // pair for exposure (docs/exposure.md): the summaries' accumulation and the
 // alert rules. Both are checked against hand-computed sequences and the
-// phantom's true spine in tests/estimator (exposure_test, alerts_test,
+// phantom's true spine in tests/estimator/load (exposure_test, alerts_test,
 // exposure_phantom_test).
 #include <benchmark/benchmark.h>
 

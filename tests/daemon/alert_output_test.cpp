@@ -184,10 +184,12 @@ TEST(AlertOutput, WriteErrorsAreCountedAndTheNextChangeTriesAgain) {
 }
 
 TEST(AlertOutputKeys, ModeParsedOnceIntoAnEnum) {
-  EXPECT_EQ(*parse_alert_signal_mode("steady"), AlertSignalMode::Steady);
-  EXPECT_EQ(*parse_alert_signal_mode("pulse"), AlertSignalMode::Pulse);
-  EXPECT_EQ(parse_alert_signal_mode("blink").error().message, "\"blink\" is not one of: steady, pulse");
-  EXPECT_EQ(to_string(AlertSignalMode::Pulse), "pulse");
+  for (auto [text, mode] : {std::pair{"steady", AlertSignalMode::Steady}, {"pulse", AlertSignalMode::Pulse}}) {
+    auto c = parse_config(std::string("[alerts]\ngpio_mode = \"") + text + "\"\n", "s.toml");
+    ASSERT_TRUE(c) << c.error().message;
+    EXPECT_EQ(c->alerts.gpio_mode, mode) << text;
+    EXPECT_EQ(to_string(mode), text);
+  }
 }
 
 TEST(AlertOutputKeys, DefaultsAndValuesReachTheConfig) {
@@ -195,7 +197,7 @@ TEST(AlertOutputKeys, DefaultsAndValuesReachTheConfig) {
   ASSERT_TRUE(d);
   EXPECT_FALSE(d->alerts.silent);
   EXPECT_EQ(d->alerts.gpio_chip, "");
-  EXPECT_EQ(d->alerts.gpio_mode, "steady");
+  EXPECT_EQ(d->alerts.gpio_mode, AlertSignalMode::Steady);
   EXPECT_EQ(d->alerts.pulse_ms, 500);
   auto c = parse_config("[alerts]\nsilent = true\ngpio_chip = \"gpiochip1\"\ngpio_line = 17\ngpio_active_low = true\n"
                         "gpio_mode = \"pulse\"\npulse_ms = 250\n",
@@ -205,7 +207,7 @@ TEST(AlertOutputKeys, DefaultsAndValuesReachTheConfig) {
   EXPECT_EQ(c->alerts.gpio_chip, "gpiochip1");
   EXPECT_EQ(c->alerts.gpio_line, 17);
   EXPECT_TRUE(c->alerts.gpio_active_low);
-  EXPECT_EQ(c->alerts.gpio_mode, "pulse");
+  EXPECT_EQ(c->alerts.gpio_mode, AlertSignalMode::Pulse);
   EXPECT_EQ(c->alerts.pulse_ms, 250);
 }
 

@@ -123,6 +123,8 @@ TEST(Config, ModesAreParsedOnceIntoEnums) {
   EXPECT_EQ(to_string(ReplayPace::Fast), "fast");
   EXPECT_EQ(parse("cameras", "pixel_format", "GREY")->cameras.pixel_format, PixelFormat::GREY);
   EXPECT_EQ(parse("trigger", "mode", "master")->trigger.mode, sync::TriggerMode::Master);
+  EXPECT_EQ(defaults.log.level, LogLevel::Info);
+  for (const auto& [text, level] : log_level_names()) EXPECT_EQ(parse("log", "level", text)->log.level, level) << text;
   EXPECT_EQ(parse("trigger", "mode", "slave")->trigger.mode, sync::TriggerMode::Slave);
   EXPECT_EQ(parse("silhouette", "background", "image")->silhouette.background, BackgroundMode::Image);
   EXPECT_EQ(parse("silhouette", "background", "threshold")->silhouette.background, BackgroundMode::Threshold);
@@ -210,7 +212,7 @@ namespace spinewatch {
 namespace {
 
 // subject.spine_placement reaches the estimator (its effect on the
-// postures: tests/population, PopulationSweep.MeasuredPlacementOnTestSubjectsBeatsTheGenericSpine).
+// postures: tests/tools/population, PopulationSweep.MeasuredPlacementOnTestSubjectsBeatsTheGenericSpine).
 TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).subject.spine_placement, SpinePlacementMode::Measured);
   auto generic = parse_config("[subject]\nspine_placement = \"generic\"\n", "s.toml");
@@ -222,8 +224,8 @@ TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
 }
 
 // cvsm.refine_steps reaches the estimator, off by default (its effect on
-// the postures: tests/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
-// through replay --config: tests/calibration, CalibrateCli.ReplayWith…).
+// the postures: tests/estimator/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
+// through replay --config: tests/tools/calibrate, CalibrateCli.ReplayWith…).
 TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.refine_steps, 0);
   auto on = parse_config("[cvsm]\nrefine_steps = 2\n", "s.toml");
@@ -239,7 +241,7 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
 }
 
 // cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
-// fit: tests/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
+// fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
 TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Fixed);
   auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
@@ -251,7 +253,7 @@ TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
 }
 
 // cvsm.heading reaches the estimator, "fixed" by default (its effect on the
-// fit: tests/cvsm/heading_test.cpp, CvsmHeading.*).
+// fit: tests/estimator/cvsm/heading_test.cpp, CvsmHeading.*).
 TEST(Config, HeadingReachesTheEstimatorFixedByDefault) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.heading, HeadingRange::Fixed);
   for (const auto& [text, range] : {std::pair{"front", HeadingRange::Front}, std::pair{"any", HeadingRange::Any}}) {

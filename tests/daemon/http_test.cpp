@@ -327,8 +327,11 @@ TEST_F(HttpServerTest, PageMetricsAndErrors) {
   EXPECT_EQ(metrics.status, 200);
   EXPECT_EQ(metrics.headers["content-type"], "text/plain; version=0.0.4; charset=utf-8");
   EXPECT_NE(metrics.body.find("spinewatch_pairs_total 1000\n"), std::string::npos);
+  EXPECT_EQ(metrics.headers.count("content-security-policy"), 0u) << "only the page a browser runs has a policy";
 
-  EXPECT_EQ(test::http_get(port(), "/nothing").status, 404);
+  auto missing = test::http_get(port(), "/nothing");
+  EXPECT_EQ(missing.status, 404);
+  EXPECT_EQ(missing.headers["content-type"], "text/plain");
   EXPECT_EQ(test::http_get(port(), "/?action=nothing").status, 404);
   const auto wrong = test::http_request(port(), "POST", "/metrics");
   EXPECT_EQ(wrong.status, 405);

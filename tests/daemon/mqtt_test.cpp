@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include <nlohmann/json.hpp>
+#include <sqlite3.h>
 
 #include "http/daemon_metrics.hpp"
 #include "mqtt/mqtt_outbox.hpp"
@@ -157,8 +158,8 @@ TEST(MqttOutboxTest, KeepsMessagesAcrossReopeningUntilRemovedAndDropsTheOldestWh
   {
     auto box = MqttOutbox::open(path, 3);
     ASSERT_TRUE(box) << box.error().message;
-    EXPECT_EQ((*box)->append("summary", "s1").value(), 0u);
-    EXPECT_EQ((*box)->append("alert", "a1").value(), 0u);
+    EXPECT_EQ((*box)->append(MqttTopic::Summary, "s1").value(), 0u);
+    EXPECT_EQ((*box)->append(MqttTopic::Alert, "a1").value(), 0u);
     EXPECT_EQ((*box)->size(), 2u);
   }
   auto box = MqttOutbox::open(path, 3);
@@ -166,13 +167,14 @@ TEST(MqttOutboxTest, KeepsMessagesAcrossReopeningUntilRemovedAndDropsTheOldestWh
   EXPECT_EQ((*box)->size(), 2u) << "kept across a reopen (a restart)";
   auto all = (*box)->after(0, 10).value();
   ASSERT_EQ(all.size(), 2u);
-  EXPECT_EQ(all[0].topic, "summary");
+  EXPECT_EQ(all[0].topic, MqttTopic::Summary);
+  EXPECT_EQ(all[1].topic, MqttTopic::Alert);
   EXPECT_EQ(all[0].payload, "s1");
   EXPECT_EQ(all[1].payload, "a1");
   EXPECT_LT(all[0].id, all[1].id);
   EXPECT_EQ((*box)->after(all[0].id, 10).value().size(), 1u);
-  EXPECT_EQ((*box)->append("summary", "s2").value(), 0u);
-  EXPECT_EQ((*box)->append("summary", "s3").value(), 1u) << "full at 3: the oldest goes";
+  EXPECT_EQ((*box)->append(MqttTopic::Summary, "s2").value(), 0u);
+  EXPECT_EQ((*box)->append(MqttTopic::Summary, "s3").value(), 1u) << "full at 3: the oldest goes";
   all = (*box)->after(0, 10).value();
   ASSERT_EQ(all.size(), 3u);
   EXPECT_EQ(all[0].payload, "a1");
@@ -181,6 +183,47 @@ TEST(MqttOutboxTest, KeepsMessagesAcrossReopeningUntilRemovedAndDropsTheOldestWh
   ASSERT_TRUE((*box)->remove(all[1].id)) << "removing twice is no error";
   EXPECT_EQ((*box)->size(), 2u);
   EXPECT_EQ((*box)->after(0, 1).value().size(), 1u) << "limit";
+}
+
+// The file holds each topic by its name (the broker's last level), read
+// back as the enum; a name spinewatchd does not publish is refused at open,
+// naming the file and the message.
+TEST(MqttOutboxTest, StoresTopicsByNameAndRefusesAFileWithAnotherTopic) {
+  test::TempDir dir;
+  const auto path = dir / "outbox.db";
+  {
+    auto box = MqttOutbox::open(path, 10);
+    ASSERT_TRUE(box) << box.error().message;
+    ASSERT_TRUE((*box)->append(MqttTopic::Alert, "a1"));
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  std::string names;
+  sqlite3_exec(
+      db, "SELECT topic FROM outbox",
+      [](void* out, int, char** values, char**) {
+        *static_cast<std::string*>(out) += values[0];
+        return 0;
+      },
+      &names, nullptr);
+  EXPECT_EQ(names, "alert") << "the name MQTT sees, as files written before the enum hold it";
+  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO outbox (topic, payload) VALUES ('telemetry', 't1')", nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  auto box = MqttOutbox::open(path, 10);
+  ASSERT_FALSE(box);
+  EXPECT_EQ(box.error().message, "mqtt outbox " + path.string() +
+                                     ": message 2 has the topic \"telemetry\", which spinewatchd does not publish "
+                                     "(summary, alert): a file of another program? Move it away, or give "
+                                     "mqtt.outbox_path another file");
+}
+
+TEST(MqttTopicNames, EachTopicHasOneNameThatParsesBack) {
+  for (MqttTopic t : {MqttTopic::Status, MqttTopic::Posture, MqttTopic::Summary, MqttTopic::Alert})
+    EXPECT_EQ(parse_topic_leaf(topic_leaf(t)), t) << topic_leaf(t);
+  EXPECT_EQ(topic_leaf(MqttTopic::Summary), "summary");
+  EXPECT_FALSE(parse_topic_leaf("Summary")) << "names are exact";
+  EXPECT_FALSE(parse_topic_leaf(""));
 }
 
 TEST(MqttMetrics, FamiliesOnlyWhileMqttIsConfigured) {
@@ -250,7 +293,8 @@ TEST(MqttPublisherTest, WithoutABrokerSummariesWaitAndPosturesAreCountedDropped)
   EXPECT_LE(sb.failed_network, 3u);
   EXPECT_GE(sb.failed_network, 1u);
   EXPECT_EQ(sa.reconnects, 0u);
-  EXPECT_EQ((*a)->topic("status"), "spinewatch/hall_B_1/status");
+  EXPECT_EQ((*a)->topic(MqttTopic::Status), "spinewatch/hall_B_1/status");
+  EXPECT_EQ((*a)->prefix(), "spinewatch/hall_B_1/");
 }
 
 // A real broker: status online (retained), summaries and alerts at QoS 1

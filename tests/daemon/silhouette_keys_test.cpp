@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../silhouette/synthetic_scene.hpp"
+#include "../estimator/silhouette/synthetic_scene.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/daemon/estimator_options.hpp"
 #include "spinewatch/estimator/pipeline.hpp"

@@ -1,6 +1,6 @@
 // [exposure] and [storage] keys reach what they set, and bad values are
 // one message naming key and line (their effects: tests/daemon/store_test,
-// tests/e2e/daemon_storage_test, tests/cli/replay_summaries_test).
+// tests/e2e/daemon_storage_test, tests/tools/replay/replay_summaries_test).
 #include <gtest/gtest.h>
 
 #include "spinewatch/daemon/config.hpp"

@@ -59,7 +59,7 @@ TEST(ConfigReload, NamesChangedKeysAndWhichNeedARestart) {
   Config a, b;
   EXPECT_TRUE(changed_keys(a, b).empty());
   b.station.name = "desk-7";
-  b.log.level = "debug";
+  b.log.level = LogLevel::Debug;
   b.publish.listen = "0.0.0.0:7117";
   b.cameras.fps = 60;
   const auto changed = changed_keys(a, b);

@@ -69,8 +69,7 @@ void Daemon::Impl::reload() {
   }
   std::vector<std::string> applied, need_restart;
   for (const auto& key : changed_keys(config, *fresh)) (reloadable_key(key) ? applied : need_restart).push_back(key);
-  if (fresh->log.level != config.log.level)
-    spdlog::default_logger()->set_level(spdlog::level::from_str(fresh->log.level));
+  if (fresh->log.level != config.log.level) set_log_level(fresh->log.level);
   if (fresh->station.name != config.station.name)
     publisher->set_hello(make_hello_line(fresh->station.name, rig, source_name, hello_warnings));
   config.station = fresh->station;

@@ -38,7 +38,7 @@ std::unique_ptr<AlertLineSink> open_alert_line(const Config::Alerts& a, std::vec
     spdlog::error("{}", warnings.back());
     return std::make_unique<AlertLineSink>();
   }
-  spdlog::info("alerts: signalled on {} ({}, {}{})", (*output)->name(), a.gpio_mode,
+  spdlog::info("alerts: signalled on {} ({}, {}{})", (*output)->name(), to_string(a.gpio_mode),
                a.gpio_active_low ? "active low" : "active high", a.silent ? "; silent for now" : "");
   return std::make_unique<AlertLineSink>(std::move(output).value());
 }
@@ -51,7 +51,7 @@ Result<std::unique_ptr<MqttSink>> open_mqtt(const Config& config) {
   if (!mqtt) return mqtt.error();
   const Config::Mqtt& c = config.mqtt;
   spdlog::info("mqtt: publishing to {} under {}* (postures at {} Hz at most, QoS {}; outbox {})", c.url,
-               (*mqtt)->topic(""), c.posture_rate_hz, c.qos,
+               (*mqtt)->prefix(), c.posture_rate_hz, c.qos,
                c.outbox_path.empty() ? "in the state directory" : c.outbox_path);
   return std::make_unique<MqttSink>(std::move(mqtt).value());
 }

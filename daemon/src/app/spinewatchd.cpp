@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     std::fwrite(annotated_config().data(), 1, annotated_config().size(), stdout);
     return std::fflush(stdout) == 0 ? 0 : 1;
   }
-  setup_logging("info");
+  setup_logging(LogLevel::Info);
   auto config = load_config(config_path);
   if (!config) {
     // Started by hand without --config on a machine where nothing is installed: say where one is.

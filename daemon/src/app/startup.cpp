@@ -154,14 +154,12 @@ Result<std::optional<HttpOptions>> http_options(const Config& config, const Daem
 // [alerts] gpio_chip: the buzzer's or lamp's line. A line that cannot be
 // opened is an error value here; the caller logs it once and runs on.
 Result<std::unique_ptr<AlertOutput>> open_alert_output(const Config::Alerts& a) {
-  auto mode = parse_alert_signal_mode(a.gpio_mode);
-  if (!mode) return Error{"alerts.gpio_mode: " + mode.error().message};
   auto line = sync::open_gpiod_output(a.gpio_chip, static_cast<unsigned>(a.gpio_line), "spinewatch-alert",
                                       a.gpio_active_low);
   if (!line) return line.error();
   return std::make_unique<AlertOutput>(
       std::move(line).value(),
-      AlertOutputOptions{.mode = *mode, .pulse = std::chrono::milliseconds(a.pulse_ms), .silent = a.silent},
+      AlertOutputOptions{.mode = a.gpio_mode, .pulse = std::chrono::milliseconds(a.pulse_ms), .silent = a.silent},
       fmt::format("GPIO {} line {}", a.gpio_chip, a.gpio_line));
 }
 

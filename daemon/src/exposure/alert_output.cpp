@@ -1,19 +1,9 @@
 #include "exposure/alert_output.hpp"
 
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "spinewatch/frames/printable.hpp"
 
 namespace spinewatch {
-
-Result<AlertSignalMode> parse_alert_signal_mode(std::string_view text) {
-  if (text == "steady") return AlertSignalMode::Steady;
-  if (text == "pulse") return AlertSignalMode::Pulse;
-  return Error{fmt::format("\"{}\" is not one of: steady, pulse", printable(text))};
-}
-
-std::string_view to_string(AlertSignalMode mode) { return mode == AlertSignalMode::Pulse ? "pulse" : "steady"; }
 
 AlertOutput::AlertOutput(std::unique_ptr<sync::TriggerOutputLine> line, AlertOutputOptions options, std::string name)
     : line_(std::move(line)), options_(options), name_(std::move(name)), silent_(options.silent) {

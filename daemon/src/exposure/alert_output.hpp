@@ -15,19 +15,12 @@
 #include <string_view>
 #include <thread>
 
+#include "spinewatch/daemon/config.hpp"  // AlertSignalMode
 #include "spinewatch/estimator/load/alerts.hpp"
 #include "spinewatch/frames/result.hpp"
 #include "spinewatch/sync/trigger_line.hpp"
 
 namespace spinewatch {
-
-// [alerts] gpio_mode, parsed once.
-enum class AlertSignalMode : std::uint8_t {
-  Steady,  // active while any alert is raised
-  Pulse,   // on pulse, off pulse, … while any alert is raised
-};
-Result<AlertSignalMode> parse_alert_signal_mode(std::string_view text);
-std::string_view to_string(AlertSignalMode mode);
 
 struct AlertOutputOptions {
   AlertSignalMode mode = AlertSignalMode::Steady;

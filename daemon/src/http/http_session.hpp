@@ -5,9 +5,11 @@
 // one frame in flight and the newest one waiting.
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
 
@@ -43,6 +45,21 @@ inline constexpr auto kStateWait = std::chrono::milliseconds(1500);
 inline constexpr auto kSnapshotWait = std::chrono::milliseconds(3000);
 
 using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+
+// What a response carries. Its Content-Type follows from it, and a page a
+// browser runs (Html) is sent with a Content-Security-Policy.
+enum class Body : std::uint8_t { Html, Text, Metrics, Json, Jpeg };
+
+constexpr std::string_view content_type(Body body) {
+  switch (body) {
+    case Body::Html: return "text/html; charset=utf-8";
+    case Body::Text: return "text/plain";
+    case Body::Metrics: return "text/plain; version=0.0.4; charset=utf-8";  // Prometheus' text format
+    case Body::Json: return "application/json";
+    case Body::Jpeg: return "image/jpeg";
+  }
+  return "application/octet-stream";
+}
 
 // Stream: beast::tcp_stream, or TlsStream when the server has a certificate.
 template <class Stream>
@@ -136,7 +153,7 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
       respond(too_large ? http::status::request_header_fields_too_large
               : ec == http::error::body_limit ? http::status::payload_too_large
                                               : http::status::bad_request,
-              "text/plain", fmt::format("{}\n", ec.message()), false);
+              Body::Text, fmt::format("{}\n", ec.message()), false);
       return;
     }
     handle(parser_->release());
@@ -147,22 +164,22 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
     if (server_->options.access.tokens && !authorized(request)) return;
     const HttpRoute route = route_of(std::string_view(request.target().data(), request.target().size()));
     if (route == HttpRoute::NotFound) {
-      respond(http::status::not_found, "text/plain", "not found: the live view serves /, /stream, /snapshot, /state, /metrics\n");
+      respond(http::status::not_found, Body::Text, "not found: the live view serves /, /stream, /snapshot, /state, /metrics\n");
       return;
     }
     const auto method = request.method_string();
     if (std::string_view(method.data(), method.size()) != method_of(route)) {
-      respond(http::status::method_not_allowed, "text/plain", fmt::format("use {}\n", method_of(route)), true,
+      respond(http::status::method_not_allowed, Body::Text, fmt::format("use {}\n", method_of(route)), true,
               std::string(method_of(route)));
       return;
     }
     HttpServer::Impl& s = *server_;
     switch (route) {
       case HttpRoute::Page:
-        respond(http::status::ok, "text/html; charset=utf-8", std::string(live_view_page()));
+        respond(http::status::ok, Body::Html, std::string(live_view_page()));
         return;
       case HttpRoute::Metrics:
-        respond(http::status::ok, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s.metrics()));
+        respond(http::status::ok, Body::Metrics, metrics_text(s.metrics()));
         return;
       case HttpRoute::State: {
         const std::int64_t now = monotonic_now_ns();
@@ -190,10 +207,10 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
       case HttpRoute::RelearnBackground: {
         const bool taken = s.handlers.relearn_background && s.handlers.relearn_background();
         if (taken)
-          respond(http::status::accepted, "application/json",
+          respond(http::status::accepted, Body::Json,
                   R"({"relearn":true,"message":"the background is learnt again from the next frames; keep the scene empty for a moment"})");
         else
-          respond(http::status::conflict, "application/json",
+          respond(http::status::conflict, Body::Json,
                   fmt::format(R"({{"relearn":false,"message":"silhouette.background = \"{}\": only a learnt background can be re-learnt; capture a stored one with spinewatch background"}})",
                               to_string(s.station.background_mode)));
         return;
@@ -220,7 +237,7 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
     if (who) return true;
     server_->auth_failures.fetch_add(1);
     server_->refused(peer(), bearer ? "wrong bearer token" : "no bearer token (Authorization: Bearer ...)");
-    respond(http::status::unauthorized, "text/plain",
+    respond(http::status::unauthorized, Body::Text,
             bearer ? "unauthorized: wrong token\n" : "unauthorized: send Authorization: Bearer <token>\n", false, {},
             bearer ? R"(Bearer realm="spinewatch", error="invalid_token")" : R"(Bearer realm="spinewatch")");
     return false;
@@ -236,7 +253,7 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
       } else if (self->server_->latest_picture) {
         self->answer_snapshot(self->server_->latest_picture->jpeg);
       } else {
-        self->respond(http::status::service_unavailable, "text/plain",
+        self->respond(http::status::service_unavailable, Body::Text,
                       "no picture: the station has produced no frame pair within 3 s\n");
       }
     });
@@ -246,26 +263,27 @@ class HttpSession final : public SessionBase, public std::enable_shared_from_thi
     waiting_ = HttpRoute::NotFound;
     wait_timer_.cancel();
     const auto& s = *server_;
-    respond(http::status::ok, "application/json",
+    respond(http::status::ok, Body::Json,
             state_json(s.station, s.metrics(), s.latest ? &s.latest->summary : nullptr, monotonic_now_ns()));
   }
 
   void answer_snapshot(const std::shared_ptr<const std::string>& jpeg) {
     waiting_ = HttpRoute::NotFound;
     wait_timer_.cancel();
-    respond(http::status::ok, "image/jpeg", *jpeg);
+    respond(http::status::ok, Body::Jpeg, *jpeg);
   }
 
-  void respond(http::status status, std::string_view type, std::string body, bool keep = true,
+  void respond(http::status status, Body kind, std::string body, bool keep = true,
                std::string allow = {}, std::string www_authenticate = {}) {
     auto response = std::make_shared<Response>(status, 11);
     response->set(http::field::server, "spinewatchd");
+    const std::string_view type = content_type(kind);
     response->set(http::field::content_type, beast::string_view(type.data(), type.size()));
     response->set(http::field::cache_control, "no-store");
     response->set("X-Content-Type-Options", "nosniff");
     if (!allow.empty()) response->set(http::field::allow, allow);
     if (!www_authenticate.empty()) response->set(http::field::www_authenticate, www_authenticate);
-    if (type.starts_with("text/html"))
+    if (kind == Body::Html)
       response->set("Content-Security-Policy",
                     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self'; "
                     "connect-src 'self'");

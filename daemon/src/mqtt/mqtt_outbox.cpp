@@ -12,6 +12,24 @@ struct MqttOutbox::Impl {
   sqlite::Db db;
   sqlite::Statement insert, drop, select_after, remove, count;
 
+  // Every message's topic is one this daemon publishes: the names are
+  // parsed once, here, and the messages read later carry the enum.
+  Status check_topics() {
+    auto topics = sqlite::prepare(db.get(), "SELECT MIN(id), topic FROM outbox GROUP BY topic");
+    if (!topics) return error("prepare");
+    for (;;) {
+      auto row = topics->step();
+      if (!row) return error("read the topics");
+      if (!*row) return Ok{};
+      const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(topics->get(), 1));
+      if (!parse_topic_leaf(name ? name : ""))
+        return Error{fmt::format("mqtt outbox {}: message {} has the topic \"{}\", which spinewatchd does not "
+                                 "publish (summary, alert): a file of another program? Move it away, or give "
+                                 "mqtt.outbox_path another file",
+                                 path.string(), sqlite3_column_int64(topics->get(), 0), name ? name : "")};
+    }
+  }
+
   Error error(std::string_view what) const {
     return Error{fmt::format("mqtt outbox {}: {}: {}", path.string(), what, sqlite::message(db.get()))};
   }
@@ -51,6 +69,7 @@ Result<std::unique_ptr<MqttOutbox>> MqttOutbox::open(const std::filesystem::path
     if (!prepared) return d.error("prepare");
     *s.statement = std::move(prepared).value();
   }
+  if (auto s = d.check_topics(); !s) return s.error();
   auto row = d.count.step();
   if (!row) return d.error("count");
   box->size_ = static_cast<std::size_t>(sqlite3_column_int64(d.count.get(), 0));
@@ -58,12 +77,12 @@ Result<std::unique_ptr<MqttOutbox>> MqttOutbox::open(const std::filesystem::path
   return box;
 }
 
-Result<std::size_t> MqttOutbox::append(const std::string& topic, const std::string& payload) {
+Result<std::size_t> MqttOutbox::append(MqttTopic topic, const std::string& payload) {
   Impl& d = *impl_;
   std::size_t dropped = 0;
   for (; size_ >= d.max_messages; ++dropped, --size_)
     if (!d.drop.run()) return d.error("drop the oldest");
-  if (!d.insert.bind(1, topic).bind(2, payload).run()) return d.error("append");
+  if (!d.insert.bind(1, topic_leaf(topic)).bind(2, payload).run()) return d.error("append");
   ++size_;
   return dropped;
 }
@@ -80,8 +99,15 @@ Result<std::vector<OutboxMessage>> MqttOutbox::after(std::int64_t after, std::si
     }
     if (!*row) break;
     sqlite3_stmt* s = d.select_after.get();
-    messages.push_back({sqlite3_column_int64(s, 0), reinterpret_cast<const char*>(sqlite3_column_text(s, 1)),
-                        reinterpret_cast<const char*>(sqlite3_column_text(s, 2))});
+    // open() checked the file's topics and append() writes only ours: a
+    // name not ours now was written by another program meanwhile.
+    const auto topic = parse_topic_leaf(reinterpret_cast<const char*>(sqlite3_column_text(s, 1)));
+    if (!topic) {
+      const std::int64_t id = sqlite3_column_int64(s, 0);
+      sqlite3_reset(s);
+      return Error{fmt::format("mqtt outbox {}: message {} has a topic spinewatchd does not publish", d.path.string(), id)};
+    }
+    messages.push_back({sqlite3_column_int64(s, 0), *topic, reinterpret_cast<const char*>(sqlite3_column_text(s, 2))});
   }
   sqlite3_reset(d.select_after.get());
   return messages;

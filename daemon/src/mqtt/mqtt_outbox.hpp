@@ -13,19 +13,22 @@
 #include <string>
 #include <vector>
 
+#include "mqtt/mqtt_topic.hpp"
 #include "spinewatch/frames/result.hpp"
 
 namespace spinewatch {
 
 struct OutboxMessage {
   std::int64_t id = 0;   // increasing in the order appended
-  std::string topic;     // the topic's last level: "summary", "alert"
+  MqttTopic topic = MqttTopic::Summary;  // stored as its last level (topic_leaf)
   std::string payload;
 };
 
 class MqttOutbox {
  public:
-  // Opens (creating) the file; what it holds is kept.
+  // Opens (creating) the file; what it holds is kept. A file holding a
+  // message under a topic this daemon does not publish (a file of another
+  // program or version) is refused, naming the message.
   static Result<std::unique_ptr<MqttOutbox>> open(const std::filesystem::path& path, std::size_t max_messages);
   ~MqttOutbox();
   MqttOutbox(const MqttOutbox&) = delete;
@@ -33,7 +36,7 @@ class MqttOutbox {
 
   // Appends (committed before it returns); the number of oldest messages
   // dropped to keep within max_messages.
-  Result<std::size_t> append(const std::string& topic, const std::string& payload);
+  Result<std::size_t> append(MqttTopic topic, const std::string& payload);
   // Up to `limit` messages with an id above `after`, oldest first.
   Result<std::vector<OutboxMessage>> after(std::int64_t after, std::size_t limit);
   // The broker has it: gone for good (an id already gone is no error).

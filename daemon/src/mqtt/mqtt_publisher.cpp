@@ -29,7 +29,7 @@ constexpr std::size_t kMaxInflight = 32;
 constexpr std::size_t kMaxPostureInflight = 16;
 
 struct Handoff {
-  std::string topic;  // "summary" | "alert"
+  MqttTopic topic;  // Summary or Alert
   std::string line;
 };
 
@@ -76,14 +76,14 @@ struct MqttPublisher::Impl {
   Clock::time_point outage_since{};
   std::optional<std::pair<Failure, std::string>> pending_failure;  // set by callbacks and errors
   std::string last_error_log;  // libmosquitto's last error message (TLS verification, …)
-  std::map<int, std::pair<std::int64_t, std::string>> inflight;  // mid → outbox id, topic
+  std::map<int, std::pair<std::int64_t, MqttTopic>> inflight;  // mid → outbox id, topic
   std::set<int> posture_inflight;
   std::int64_t cursor = 0;    // the last outbox id published on this link
   bool outbox_dirty = true;   // something may be in the outbox past the cursor
   std::optional<int> status_mid;
   bool status_acked = false;
 
-  std::string topic(std::string_view leaf) const { return prefix + std::string(leaf); }
+  std::string topic(MqttTopic t) const { return prefix + std::string(topic_leaf(t)); }
   std::string where() const { return fmt::format("{}://{}:{}", o.url.tls ? "mqtts" : "mqtt", o.url.host, o.url.port); }
 
   // ---- the MQTT thread ----
@@ -127,7 +127,7 @@ struct MqttPublisher::Impl {
       auto dropped = outbox->append(item->topic, item->line);
       if (!dropped) {
         dropped_outbox_error.fetch_add(1, std::memory_order_relaxed);
-        spdlog::error("{}; the {} is lost", dropped.error().message, item->topic);
+        spdlog::error("{}; the {} is lost", dropped.error().message, topic_leaf(item->topic));
         continue;
       }
       if (*dropped) {
@@ -153,7 +153,7 @@ struct MqttPublisher::Impl {
     mosquitto_log_callback_set(mosq.get(), [](mosquitto*, void* self, int level, const char* text) {
       if (level == MOSQ_LOG_ERR && text) static_cast<Impl*>(self)->last_error_log = text;
     });
-    const std::string status = topic("status");
+    const std::string status = topic(MqttTopic::Status);
     if (int rc = mosquitto_will_set(mosq.get(), status.c_str(), 7, "offline", 1, true); rc != MOSQ_ERR_SUCCESS)
       return fail_now(Failure::Network, std::string("last will: ") + mosquitto_strerror(rc));
     if (!o.username.empty())
@@ -201,7 +201,7 @@ struct MqttPublisher::Impl {
     }
     failures = 0;
     int mid = 0;
-    if (mosquitto_publish(mosq.get(), &mid, topic("status").c_str(), 6, "online", 1, true) == MOSQ_ERR_SUCCESS)
+    if (mosquitto_publish(mosq.get(), &mid, topic(MqttTopic::Status).c_str(), 6, "online", 1, true) == MOSQ_ERR_SUCCESS)
       status_mid = mid;
     outbox_dirty = true;
     cursor = 0;
@@ -217,7 +217,7 @@ struct MqttPublisher::Impl {
   void on_publish(int mid) {
     if (auto it = inflight.find(mid); it != inflight.end()) {
       if (auto s = outbox->remove(it->second.first); !s) spdlog::error("{}", s.error().message);
-      (it->second.second == "alert" ? published_alert : published_summary).fetch_add(1, std::memory_order_relaxed);
+      (it->second.second == MqttTopic::Alert ? published_alert : published_summary).fetch_add(1, std::memory_order_relaxed);
       outbox_messages.store(outbox->size(), std::memory_order_relaxed);
       inflight.erase(it);
     } else if (posture_inflight.erase(mid)) {
@@ -297,7 +297,7 @@ struct MqttPublisher::Impl {
       auto line = postures.pop_for(0ms);
       if (!line) return;
       int mid = 0;
-      const std::string t = topic("posture");
+      const std::string t = topic(MqttTopic::Posture);
       if (mosquitto_publish(mosq.get(), &mid, t.c_str(), static_cast<int>(line->size()), line->data(), o.qos, false) !=
           MOSQ_ERR_SUCCESS) {
         dropped_disconnected.fetch_add(1, std::memory_order_relaxed);
@@ -318,7 +318,7 @@ struct MqttPublisher::Impl {
       if (state == State::Connected) {
         int mid = 0;
         status_acked = false;
-        if (mosquitto_publish(mosq.get(), &mid, topic("status").c_str(), 7, "offline", 1, true) == MOSQ_ERR_SUCCESS) {
+        if (mosquitto_publish(mosq.get(), &mid, topic(MqttTopic::Status).c_str(), 7, "offline", 1, true) == MOSQ_ERR_SUCCESS) {
           status_mid = mid;
           const auto until = Clock::now() + std::max(grace, std::chrono::milliseconds(500));
           while (!status_acked && Clock::now() < until && mosquitto_loop(mosq.get(), 10, 1) == MOSQ_ERR_SUCCESS) {
@@ -388,14 +388,18 @@ void MqttPublisher::offer_posture(std::int64_t t_ns, const std::string& line) {
 }
 
 void MqttPublisher::publish_summary(std::string line) {
-  if (impl_->handoff.push({"summary", std::move(line)})) impl_->dropped_handoff_full.fetch_add(1, std::memory_order_relaxed);
+  if (impl_->handoff.push({MqttTopic::Summary, std::move(line)}))
+    impl_->dropped_handoff_full.fetch_add(1, std::memory_order_relaxed);
 }
 
 void MqttPublisher::publish_alert(std::string line) {
-  if (impl_->handoff.push({"alert", std::move(line)})) impl_->dropped_handoff_full.fetch_add(1, std::memory_order_relaxed);
+  if (impl_->handoff.push({MqttTopic::Alert, std::move(line)}))
+    impl_->dropped_handoff_full.fetch_add(1, std::memory_order_relaxed);
 }
 
-std::string MqttPublisher::topic(std::string_view leaf) const { return impl_->topic(leaf); }
+std::string MqttPublisher::topic(MqttTopic topic) const { return impl_->topic(topic); }
+
+const std::string& MqttPublisher::prefix() const { return impl_->prefix; }
 
 MqttStats MqttPublisher::stats() const {
   const Impl& d = *impl_;

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "spinewatch/daemon/config.hpp"
+#include "mqtt/mqtt_topic.hpp"
 #include "spinewatch/frames/result.hpp"
 #include "support/mqtt_url.hpp"
 
@@ -91,7 +92,8 @@ class MqttPublisher {
   void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(1000));
 
   MqttStats stats() const;
-  std::string topic(std::string_view leaf) const;  // "spinewatch/<station>/<leaf>"
+  std::string topic(MqttTopic topic) const;  // "spinewatch/<station>/<leaf>"
+  const std::string& prefix() const;        // "spinewatch/<station>/"
 
  private:
   MqttPublisher();

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "support/mqtt_url.hpp"
 #include "spinewatch/frames/printable.hpp"
 #include "spinewatch/frames/text_file.hpp"
 #include "support/nearest_name.hpp"
@@ -70,6 +71,8 @@ std::string_view to_string(CameraSource source) {
 
 std::string_view to_string(ReplayPace pace) { return pace == ReplayPace::Fast ? "fast" : "paced"; }
 
+std::string_view to_string(AlertSignalMode mode) { return mode == AlertSignalMode::Pulse ? "pulse" : "steady"; }
+
 namespace {
 
 const OptionKey<Config>* find_key(const std::string& name) {
@@ -90,7 +93,8 @@ std::string at(std::string_view source, const toml::node& n) {
 
 // The [mqtt] keys taken together: the key at fault and the problem.
 std::optional<std::pair<std::string, std::string>> check_mqtt(const Config::Mqtt& m) {
-  const bool tls = m.url.rfind("mqtts://", 0) == 0;
+  const auto url = parse_mqtt_url(m.url);  // "" (off) is no URL
+  const bool tls = url && url->tls;
   for (const auto& [key, value] : {std::pair{"ca_file", &m.ca_file}, {"cert_file", &m.cert_file}, {"key_file", &m.key_file}})
     if (!value->empty() && !tls) return std::pair{key, "set, but mqtt.url is not mqtts://: a plain connection has no TLS"};
   if (m.cert_file.empty() != m.key_file.empty())

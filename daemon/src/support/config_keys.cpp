@@ -91,7 +91,7 @@ const OptionTable<Config::Alerts>& Config::Alerts::keys() {
       text_key("gpio_chip", &S::gpio_chip),
       integer_key("gpio_line", &S::gpio_line, 0, 1023),
       flag_key("gpio_active_low", &S::gpio_active_low),
-      text_key("gpio_mode", &S::gpio_mode, {"steady", "pulse"}),
+      mode_key("gpio_mode", &S::gpio_mode, {{"steady", AlertSignalMode::Steady}, {"pulse", AlertSignalMode::Pulse}}),
       integer_key("pulse_ms", &S::pulse_ms, 20, 60000),
   };
   return table;
@@ -128,7 +128,7 @@ const OptionTable<Config::Http>& Config::Http::keys() {
 const OptionTable<Config::Log>& Config::Log::keys() {
   using S = Config::Log;
   static const OptionTable<S> table = {
-      text_key("level", &S::level, {"trace", "debug", "info", "warn", "error"}).live(),
+      mode_key("level", &S::level, log_level_names()).live(),
       integer_key("status_interval_s", &S::status_interval_s, 1, 86400).live(),
   };
   return table;

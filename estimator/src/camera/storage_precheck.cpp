@@ -27,7 +27,7 @@ namespace {
 //      0., 1. ]                ... continued
 //   # a comment, or a blank line
 // with spaces for indentation. Everything OpenCV writes for a calibration
-// is among these (tests/estimator/camera_test.cpp reads files from
+// is among these (tests/estimator/camera/camera_test.cpp reads files from
 // OpenCV's samples and from cv::FileStorage's own writer).
 constexpr std::size_t kMaxLine = 512;
 constexpr std::string_view kNumber = R"([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?|[-+]?\.(?:Inf|inf|NaN|nan))";

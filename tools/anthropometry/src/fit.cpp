@@ -160,7 +160,7 @@ std::string to_toml(const AnthropometryFit& fit) {
          "# trained measurers; ../shared/data/ansur2/.\n"
          "#\n"
          "# Generated, do not edit: spinewatch fit-anthropometry --ansur ../shared/data/ansur2\n"
-         "#   --out config/anthropometry.toml  (tests/anthropometry regenerate it and compare).\n"
+         "#   --out config/anthropometry.toml  (tests/tools/anthropometry regenerate it and compare).\n"
          "# Ordinary least squares with an intercept, fitted on the training subjects only.\n"
          "# Split: a subject is a test subject when splitmix64(SubjectId) mod 10 < 3.\n"
          "# Inputs are ANSUR column names, standing, in mm; `male` is 1 for a man, 0 for a\n"

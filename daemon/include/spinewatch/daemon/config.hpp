@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "spinewatch/daemon/logging.hpp"
 #include "spinewatch/estimator/estimator_config.hpp"
 #include "spinewatch/frames/option_table.hpp"
 #include "spinewatch/frames/pixel_format.hpp"
@@ -31,8 +32,14 @@ enum class ReplayPace : std::uint8_t {
   Paced,  // a recording at its own rate, like cameras
   Fast,   // as fast as the estimator takes pairs
 };
+// [alerts] gpio_mode: how an output line signals a raised alert.
+enum class AlertSignalMode : std::uint8_t {
+  Steady,  // active while any alert is raised
+  Pulse,   // on pulse, off pulse, … while any alert is raised
+};
 std::string_view to_string(CameraSource source);
 std::string_view to_string(ReplayPace pace);
+std::string_view to_string(AlertSignalMode mode);
 
 struct Config {
   struct Station {
@@ -113,7 +120,7 @@ struct Config {
     std::string gpio_chip = "";  // the buzzer's or lamp's GPIO chip; "" = no output line
     int gpio_line = 0;           // its line offset on the chip
     bool gpio_active_low = false;  // active = the pin driven low
-    std::string gpio_mode = "steady";  // "steady" | "pulse" (AlertSignalMode)
+    AlertSignalMode gpio_mode = AlertSignalMode::Steady;
     int pulse_ms = 500;                // pulse: on this long, off this long
     bool operator==(const Alerts&) const = default;
     static const OptionTable<Alerts>& keys();
@@ -144,7 +151,7 @@ struct Config {
   } http;
 
   struct Log {
-    std::string level = "info";  // trace | debug | info | warn | error
+    LogLevel level = LogLevel::Info;
     int status_interval_s = 60;
     bool operator==(const Log&) const = default;
     static const OptionTable<Log>& keys();

@@ -74,7 +74,7 @@ inline constexpr double kStatureMismatchMm = 80;
 // median of the ANSUR II training subjects (both sexes; 26.66 kg/m²). On
 // the disjoint test subjects the mass so estimated is off by 12.0 kg SD
 // (p95 23 kg): loads from an estimated mass are as uncertain, which is why
-// the stream says so. tests/anthropometry recompute it from the data.
+// the stream says so. tests/tools/anthropometry recompute it from the data.
 inline constexpr double kMedianBmi = 26.66;
 double estimated_mass_kg(double stature_mm);
 

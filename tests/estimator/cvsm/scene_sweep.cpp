@@ -4,7 +4,7 @@
 // waist mean and the worst tracking error. Not a test (the test,
 // scene_conditions_test.cpp, runs a fixed subset); the table in
 // docs/tuning.md comes from it:
-//   build/release/tests/cvsm/scene_sweep --seed 3
+//   build/release/tests/estimator/cvsm/scene_sweep --seed 3
 #include <cstdio>
 #include <string>
 #include <vector>

@@ -7,7 +7,7 @@
 // judged here, on the whole set. Not run by ctest (≈ 40 s for the
 // defaults on one core of the development machine):
 //
-//   build/release/tests/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 1]
+//   build/release/tests/estimator/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 1]
 #include <cstdio>
 #include <map>
 #include <string>

@@ -32,7 +32,7 @@ TEST_P(EndToEnd, EveryVertebraWithinTenMillimetresOnAverageAndAnatomical) {
                                      test::source_dir() + "/config/subjects/" + c.subject + ".json --out " + rec.string());
   ASSERT_EQ(phantom.exit_code, 0) << phantom.output;
   // The named phantom subjects carry the generic spine: scored with the
-  // same placement (the measured one on measured people: tests/population).
+  // same placement (the measured one on measured people: tests/tools/population).
   const auto config = dir / "generic.toml";
   test::write_file(config, "[subject]\nspine_placement = \"generic\"\n");
   const auto eval = test::run_cli("eval --json --recording " + rec.string() + " --config " + config.string());

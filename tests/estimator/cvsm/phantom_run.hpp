@@ -46,7 +46,7 @@ inline double max_of(const std::vector<double>& v) { return v.empty() ? 0.0 : *s
 // The phantom's named subjects (config/subjects/*.json) carry the generic
 // spine, at its fixed fractions of stature; the fit is scored on them with
 // the same placement (how well the outline is followed). How well the
-// spine is placed in measured people is tests/population's.
+// spine is placed in measured people is tests/tools/population's.
 inline CvsmOptions generic_subject_options() {
   CvsmOptions o;
   o.spine_placement = SpinePlacementMode::Generic;

@@ -249,7 +249,7 @@ TEST(CvsmModel, ThinTrunkKeepsEveryFourthVertebraAndTheEnds) {
 }
 
 // These subjects are CVSM body models on the generic spine: tracked with
-// the same placement (the measured one is tests/population's).
+// the same placement (the measured one is tests/tools/population's).
 CvsmOptions generic_spine_options() {
   CvsmOptions o;
   o.spine_placement = SpinePlacementMode::Generic;

@@ -1,7 +1,7 @@
 // Prints a digest of the silhouette threshold's bits for 4 000 random rows,
 // grey and colour, with and without shadows: builds of the threshold on
 // other CPUs (SSE2, the scalar fallback on aarch64, the generic build) must
-// print the same line (tests/silhouette/CMakeLists.txt).
+// print the same line (tests/estimator/silhouette/CMakeLists.txt).
 #include <algorithm>
 #include <cstdio>
 #include <random>
