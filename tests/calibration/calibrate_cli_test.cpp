@@ -90,20 +90,20 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
                                 (dir / "truth.yaml").string() + " --out " + (dir / "rec").string());
   ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
   // Replays with the true and the recovered calibration, without and with
-  // the fit's outline refinement (config [cvsm] refine_steps, off by
+  // the fit's outline refinement (config [cvsm] refine_steps, one step by
   // default).
-  std::ofstream(dir / "refined.toml") << "[cvsm]\nrefine_steps = 1\n";
+  std::ofstream(dir / "plain.toml") << "[cvsm]\nrefine_steps = 0\n";
   auto replay = [&](const std::string& calibration, const std::string& config, const std::string& out) {
     const auto r = test::run_cli("replay --recording " + (dir / "rec").string() + calibration + config + " --out " +
                                  (dir / out).string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
   };
   const std::string recovered = " --calibration " + (dir_->path() / "calibration.yaml").string();
-  const std::string refined = " --config " + (dir / "refined.toml").string();
-  replay("", "", "truth.ndjson");
-  replay(recovered, "", "rec.ndjson");
-  replay("", refined, "truth_refined.ndjson");
-  replay(recovered, refined, "rec_refined.ndjson");
+  const std::string plain_config = " --config " + (dir / "plain.toml").string();
+  replay("", plain_config, "truth.ndjson");
+  replay(recovered, plain_config, "rec.ndjson");
+  replay("", "", "truth_refined.ndjson");
+  replay(recovered, "", "rec_refined.ndjson");
   struct Apart {
     double mean = 0, worst = 0;
     int tracked = 0;
@@ -153,8 +153,8 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   EXPECT_LE(plain.worst, 25.0);
   EXPECT_LE(fine.mean, 5.0);
   EXPECT_LE(fine.worst, 15.0);
-  // The key reaches replay's estimator: the refined postures are not the
-  // plain ones.
+  // The key reaches replay's estimator: the plain postures are not the
+  // refined ones.
   EXPECT_GT(apart("truth.ndjson", "truth_refined.ndjson").mean, 0.5);
   auto mean_error = [&](const char* file) {
     auto e = test::run_cli("eval --recording " + (dir / "rec").string() + " --estimate " + (dir / file).string());
@@ -162,6 +162,7 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
     return at == std::string::npos ? 1e9 : std::stod(e.output.substr(at + 9));
   };
   EXPECT_LE(mean_error("rec.ndjson"), mean_error("truth.ndjson") + 5.0);
+  EXPECT_LE(mean_error("rec_refined.ndjson"), mean_error("truth_refined.ndjson") + 5.0);
 }
 
 TEST_F(CalibrateCli, ARefusedCalibrationWritesNothing) {

@@ -593,7 +593,7 @@ struct CvsmTracker::Impl {
       // Hierarchical: the trunk with the limbs held, the limbs with the
       // trunk held, the trunk once more.
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
-      candidates = local_search(opt.local_budget);
+      candidates = local_search(opt.refine_steps > 0 ? opt.refined_local_budget : opt.local_budget);
       candidates += follow_heading(searched_cost);
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
