@@ -309,7 +309,7 @@ struct CvsmTracker::Impl {
   std::array<cvsm_detail::SilhouetteEdges, 2> edges;
   // Not with articulated limbs: there the limbs' search, started from the
   // refined trunk, no longer finds a raised arm (CvsmLimbs.ArticulatedFit…:
-  // the right shoulder at 6° for the truth's 90°), and the trunk's search
+  // the right shoulder at −16° for the truth's 90°), and the trunk's search
   // keeps its whole budget.
   bool refining() const { return opt.refine_steps > 0 && opt.limbs == LimbMode::Fixed; }
   int refine(const BitMask& frontal, const BitMask& lateral, int steps) {
