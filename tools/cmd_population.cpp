@@ -110,7 +110,7 @@ void add_population_command(CLI::App& app, ExitCode& exit_code) {
                                                           opts->known_landmarks ? ", stature, mass, C7 and iliac crest given"
                                                           : opts->known_worker ? ", stature and mass given" : "",
                                                           opts->rules == "mean" ? ", rules at their means" : "",
-                                                          opts->refine_steps > 0
+                                                          opts->refine_steps != EstimatorOptions{}.cvsm.refine_steps
                                                               ? fmt::format(", refine_steps {}", opts->refine_steps)
                                                               : "")));
   });

@@ -312,6 +312,11 @@ struct CvsmTracker::Impl {
   // over a quarter of a search step; a step moves a parameter at most one
   // search step (2°; 5 / 3 / 5 mm).
   std::array<cvsm_detail::SilhouetteEdges, 2> edges;
+  // Not with articulated limbs: there the limbs' search, started from the
+  // refined trunk, no longer finds a raised arm (CvsmLimbs.ArticulatedFit…:
+  // the right shoulder at −16° for the truth's 90°), and the trunk's search
+  // keeps its whole budget.
+  bool refining() const { return opt.refine_steps > 0 && opt.limbs == LimbMode::Fixed; }
   int refine(const BitMask& frontal, const BitMask& lateral, int steps) {
     if (steps <= 0) return 0;
     cost->set_row_step(opt.refine_row_step);
@@ -634,7 +639,7 @@ struct CvsmTracker::Impl {
       // Hierarchical: the trunk with the limbs held, the limbs with the
       // trunk held, the trunk once more.
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
-      candidates = local_search(opt.local_budget);
+      candidates = local_search(refining() ? opt.refined_local_budget : opt.local_budget);
       candidates += follow_heading(searched_cost);
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
@@ -644,7 +649,7 @@ struct CvsmTracker::Impl {
     // Refined as it was searched: after a global search, unanchored (the
     // subject may have stepped; the anchor follows below).
     anchored = !searched_globally;
-    candidates += refine(frontal, lateral, opt.refine_steps);
+    candidates += refine(frontal, lateral, refining() ? opt.refine_steps : 0);
     anchored = true;
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;

@@ -7,7 +7,7 @@
 // judged here, on the whole set. Not run by ctest (≈ 40 s for the
 // defaults on one core of the development machine):
 //
-//   build/release/tests/estimator/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 1]
+//   build/release/tests/estimator/cvsm/cvsm_accuracy_sweep --seeds 1-8 [--refine-steps 0]
 #include <cstdio>
 #include <map>
 #include <string>
@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
                                      "combined", "seated_flexion", "sway", "fast"};
   int local_budget = CvsmOptions{}.local_budget;
   int refine_steps = CvsmOptions{}.refine_steps;
+  int refined_local_budget = CvsmOptions{}.refined_local_budget;
+  int refine_row_step = CvsmOptions{}.refine_row_step;
   std::map<std::string, LimbMode> limb_modes{{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}};
   LimbMode limbs = CvsmOptions{}.limbs;
   app.add_option("--seeds", seeds, "first and last seed")->delimiter('-');
@@ -33,6 +35,9 @@ int main(int argc, char** argv) {
   app.add_option("--scenarios", scenarios, "phantom scenarios")->delimiter(',');
   app.add_option("--local-budget", local_budget, "CvsmOptions::local_budget");
   app.add_option("--refine-steps", refine_steps, "CvsmOptions::refine_steps (config [cvsm] refine_steps)");
+  app.add_option("--refined-local-budget", refined_local_budget,
+                 "CvsmOptions::refined_local_budget (the local budget when refine_steps > 0)");
+  app.add_option("--refine-row-step", refine_row_step, "CvsmOptions::refine_row_step");
   app.add_option("--limbs", limbs, "fixed or articulated (config [cvsm] limbs)")
       ->transform(CLI::CheckedTransformer(limb_modes, CLI::ignore_case));
   CLI11_PARSE(app, argc, argv);
@@ -44,6 +49,8 @@ int main(int argc, char** argv) {
   CvsmOptions options = test::generic_subject_options();  // the named phantom subjects (phantom_run.hpp)
   options.local_budget = local_budget;
   options.refine_steps = refine_steps;
+  options.refined_local_budget = refined_local_budget;
+  options.refine_row_step = refine_row_step;
   options.limbs = limbs;
   int runs = 0, neck_over = 0, waist_over = 0;
   double worst = 0, neck_sum = 0, waist_sum = 0;

@@ -300,7 +300,9 @@ TEST(OutlineFit, APriorPullsTowardsItsCentre) {
 // The refinement on the self-consistency sequence of cvsm_test (another
 // subject's model drawn by the OpenCV reference, bending and back): the
 // fit comes out closer to that subject's neck and waist, with more cost
-// evaluations per pair.
+// evaluations per pair at the search's full budget; by default (on, the
+// search's budget cut to refined_local_budget) it is as close, and the
+// search spends fewer.
 TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel subject = other_subject();
@@ -314,10 +316,11 @@ TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
     double candidates = 0;
     int lost = 0;
   };
-  auto run = [&](int steps) {
+  auto run = [&](int steps, int refined_local_budget) {
     CvsmOptions options;
     options.spine_placement = SpinePlacementMode::Generic;
     options.refine_steps = steps;
+    options.refined_local_budget = refined_local_budget;
     CvsmTracker tracker(rig, options);
     Run out;
     int tracked = 0;
@@ -338,13 +341,20 @@ TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
     out.candidates /= std::max(1, tracked);
     return out;
   };
-  const Run plain = run(0), refined = run(1);
-  std::printf("neck and waist: %.2f mm with %.1f evaluations a pair, refined %.2f mm with %.1f\n", plain.error,
-              plain.candidates, refined.error, refined.candidates);
+  const CvsmOptions defaults;
+  ASSERT_GT(defaults.refine_steps, 0);  // on by default
+  const Run plain = run(0, defaults.refined_local_budget), full = run(1, defaults.local_budget),
+            refined = run(1, defaults.refined_local_budget);
+  std::printf("neck and waist: %.2f mm with %.1f evaluations a pair, refined %.2f mm with %.1f; "
+              "refined after the full search %.2f mm with %.1f\n",
+              plain.error, plain.candidates, refined.error, refined.candidates, full.error, full.candidates);
   EXPECT_EQ(plain.lost, 0);
   EXPECT_EQ(refined.lost, 0);
+  EXPECT_EQ(full.lost, 0);
+  EXPECT_LT(full.error, plain.error);
+  EXPECT_GT(full.candidates, plain.candidates + 8);
   EXPECT_LT(refined.error, plain.error);
-  EXPECT_GT(refined.candidates, plain.candidates + 8);
+  EXPECT_LT(refined.candidates, full.candidates - 4);
 }
 
 // The refinement moves a pose by at most a few search steps and only to a

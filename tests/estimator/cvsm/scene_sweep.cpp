@@ -4,7 +4,7 @@
 // waist mean and the worst tracking error. Not a test (the test,
 // scene_conditions_test.cpp, runs a fixed subset); the table in
 // docs/tuning.md comes from it:
-//   build/release/tests/estimator/cvsm/scene_sweep --seed 3
+//   build/release/tests/estimator/cvsm/scene_sweep --seed 3 [--refine-steps 0]
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -24,10 +24,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> conditions;
   for (const auto& c : test::scene_conditions()) conditions.emplace_back(c.name);
   unsigned seed = 3;
+  int refine_steps = CvsmOptions{}.refine_steps;
   app.add_option("--scenarios", scenarios)->capture_default_str();
   app.add_option("--subjects", subjects)->capture_default_str();
   app.add_option("--conditions", conditions)->capture_default_str();
   app.add_option("--seed", seed)->capture_default_str();
+  app.add_option("--refine-steps", refine_steps, "config [cvsm] refine_steps")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug shows the bootstrap's attempts
 
@@ -49,7 +51,9 @@ int main(int argc, char** argv) {
           ++failures;
           continue;
         }
-        const test::SceneRunStats st = test::run_scene(*seq, test::scene_run_options(*c));
+        test::SceneRunOptions options = test::scene_run_options(*c);
+        options.estimator.cvsm.refine_steps = refine_steps;
+        const test::SceneRunStats st = test::run_scene(*seq, options);
         std::printf("%-16s %-7s %-14s %5d %5d %5d %5d %6d %6d %7.1f %7.1f %7.1f %8llu\n", scenario.c_str(),
                     subject.c_str(), condition.c_str(), st.pairs, st.tracking, st.init, st.lost, st.no_background,
                     st.first_tracking, test::mean(st.neck), test::mean(st.waist), st.worst,

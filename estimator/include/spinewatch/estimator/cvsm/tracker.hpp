@@ -47,6 +47,12 @@ struct CvsmOptions {
   SpinePlacementMode spine_placement = SpinePlacementMode::Measured;
   int min_silhouette_px = 600;   // fewer pixels in a view: no person
   int local_budget = 16;         // cost evaluations per tracked frame
+  // ... when the outline refinement follows (refine_steps > 0, fixed limbs): the
+  // refinement settles the pose between the search's steps, so the search
+  // tries the prediction and a few coarse steps only; half its budget or
+  // a quarter fit as well (docs/cvsm.md, "Outline refinement"), and the
+  // pair keeps within its CPU budget.
+  int refined_local_budget = 4;
   int global_budget = 400;       // cost evaluations for a (re)initialisation
   // Tuning, not configuration: the searches (local and global) compare
   // candidates on every n-th row (a power of two) ...
@@ -58,8 +64,9 @@ struct CvsmOptions {
   // Then, with refine_steps > 0 (config [cvsm] refine_steps), the pose
   // found is refined on the outline: that many Gauss–Newton steps pulling
   // the full model's outline ends on every n-th row to the silhouettes'
-  // edges (docs/cvsm.md, "Outline refinement").
-  int refine_steps = 0;
+  // edges (docs/cvsm.md, "Outline refinement"). One step by default;
+  // with fixed limbs only (articulated, it has no effect).
+  int refine_steps = 1;
   int refine_row_step = 2;
   LimbMode limbs = LimbMode::Fixed;  // config [cvsm] limbs
   HeadingRange heading = HeadingRange::Fixed;  // config [cvsm] heading
