@@ -24,6 +24,13 @@ XorCounts estimate_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec&
   return cost.evaluate(m, points, INT64_MAX);
 }
 
+// A probe of choose_heading: its heading, cost and refined estimate.
+struct Tried {
+  double heading;
+  std::int64_t cost;
+  SubjectEstimate estimate;
+};
+
 }  // namespace
 
 double heading_apart(double a, double b) {
@@ -74,15 +81,40 @@ bool heading_allowed(HeadingRange range, double heading_deg) {
   return range == HeadingRange::Any || std::abs(wrapped_heading(heading_deg)) <= 90;
 }
 
+namespace {
+
+// The chosen heading against its mirror, each refined from its own probe
+// by kMirrorRefineRounds of the shape fit: the better is left in `best`,
+// and the margin is how much better it fits.
+HeadingChoice settle_front_from_back(SubjectEstimate& best, const std::vector<Tried>& tried, XorCost& cost,
+                                     const CvsmSpec& spec, const SpineSpec& spine, HeadingChoice choice) {
+  const double mirror_heading = wrapped_heading(best.pose.heading + 180);
+  const Tried* nearest = &tried.front();
+  for (const Tried& t : tried)
+    if (heading_apart(t.heading, mirror_heading) < heading_apart(nearest->heading, mirror_heading)) nearest = &t;
+  SubjectEstimate mirror = nearest->estimate;
+  mirror.pose = turned_in_place(build(mirror, spec, spine), spine, mirror.pose, mirror_heading);
+  SubjectEstimate chosen = best;
+  for (int round = 0; round < kMirrorRefineRounds; ++round) {
+    choice.evaluations += refine_subject(chosen, cost, spec, spine);
+    choice.evaluations += refine_subject(mirror, cost, spec, spine);
+  }
+  std::vector<Eigen::Vector3d> points;
+  const std::int64_t chosen_cost = estimate_cost(chosen, cost, spec, spine, points).total();
+  const std::int64_t mirror_cost = estimate_cost(mirror, cost, spec, spine, points).total();
+  choice.evaluations += 2;
+  if (mirror_cost < chosen_cost) best = mirror;
+  choice.margin_px = std::abs(mirror_cost - chosen_cost);
+  return choice;
+}
+
+}  // namespace
+
 HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                              HeadingRange range, int budget_each) {
   HeadingChoice choice;
   std::vector<Eigen::Vector3d> points;
   const BodyModel model = build(s, spec, spine);
-  struct Tried {
-    double heading;
-    std::int64_t cost;
-  };
   std::vector<Tried> tried;
   SubjectEstimate best = s, facing = s;
   std::int64_t best_cost = INT64_MAX, facing_cost = INT64_MAX, facing_silhouette_px = 0;
@@ -93,7 +125,7 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
     const XorCounts counts = estimate_cost(candidate, cost, spec, spine, points);
     const std::int64_t c = counts.total();
     ++choice.evaluations;
-    tried.push_back({candidate.pose.heading, c});
+    tried.push_back({candidate.pose.heading, c, candidate});
     if (c < best_cost) {
       best_cost = c;
       best = candidate;
@@ -135,6 +167,7 @@ HeadingChoice choose_heading(SubjectEstimate& s, XorCost& cost, const CvsmSpec& 
   for (const Tried& t : tried)
     if (heading_apart(t.heading, best.pose.heading) >= 90) other_side = std::min(other_side, t.cost);
   choice.margin_px = other_side == INT64_MAX ? INT64_MAX : other_side - best_cost;
+  if (range == HeadingRange::Any) choice = settle_front_from_back(best, tried, cost, spec, spine, choice);
   if (best.pose.heading != s.pose.heading) s.pose = turned_in_place(model, spine, s.pose, best.pose.heading);
   return choice;
 }

@@ -55,6 +55,17 @@ CvsmPose turned_in_place(const BodyModel& model, const SpineSpec& spine, const C
 // twist and the twist's published value went wrong.
 inline constexpr double kHeadingMarginFraction = 0.01;
 
+// Front from back, over the full circle, decided on converged fits: the
+// best probe and its mirror (turned 180°) each get this many rounds of the
+// shape fit (refine_subject's default budget) before they are compared.
+// A probe's 60 evaluations start from the first pair's direct
+// measurements, which a box carried at the belly or clutter grown onto the
+// silhouette put off the trunk; from there the side whose start happened
+// to lie nearer converged first and won by 10–16 % of the silhouettes'
+// pixels on bodies that faced the other way (docs/cvsm.md, "Heading").
+// Refined three rounds, the right side won on every one measured.
+inline constexpr int kMirrorRefineRounds = 3;
+
 struct HeadingChoice {
   int evaluations = 0;
   // The best cost of a heading 90° or more from the chosen one minus the
@@ -69,7 +80,9 @@ struct HeadingChoice {
 
 // The subject's heading from its first pair: every kHeadingProbeDeg, the
 // estimate turned there and its shape refined (`budget_each` evaluations);
-// the best heading then settled alone to a degree. Only the heading (and
+// the best heading then settled alone to a degree and, over the full
+// circle, compared with its mirror on converged fits (kMirrorRefineRounds),
+// which also gives the margin. Only the heading (and
 // the translation that keeps the trunk in place) is kept in `subject`:
 // its shape is refined as before, at that heading.
 HeadingChoice choose_heading(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
