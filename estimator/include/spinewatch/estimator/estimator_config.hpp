@@ -42,7 +42,7 @@ struct CvsmConfig {
   double lost_cost = 0.35;           // cost above which tracking is lost
   int refine_steps = 0;              // outline refinement of each fit: Gauss–Newton steps, 0 = off
   LimbMode limbs = LimbMode::Fixed;  // "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs")
-  HeadingRange heading = HeadingRange::Any;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
+  HeadingRange heading = HeadingRange::Fixed;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
   bool operator==(const CvsmConfig&) const = default;
   static const OptionTable<CvsmConfig>& keys();
 };
