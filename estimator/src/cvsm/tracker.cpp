@@ -365,11 +365,13 @@ struct CvsmTracker::Impl {
         pose = trial;
       }
     }
-    // The front range keeps a turn only while it wins by the preference
-    // for facing the frontal camera (subject_heading.hpp), judged every pair.
-    if (opt.heading == HeadingRange::Front && cvsm_detail::wrapped_heading(pose.heading) != 0) {
+    // A turn off the preferred heading (facing the frontal camera, or over
+    // the full circle the back to it) is kept only while it wins by the
+    // preference for it (subject_heading.hpp), judged every pair.
+    const double preferred = cvsm_detail::preferred_heading(opt.heading, pose.heading);
+    if (cvsm_detail::wrapped_heading(pose.heading) != preferred) {
       CvsmPose facing = pose;
-      facing.heading = 0;
+      facing.heading = preferred;
       const std::int64_t facing_cost = cost_of(facing, a, INT64_MAX);
       const std::int64_t turned_cost = best < current_cost - gain ? best : current_cost;
       if (turned_cost >= cvsm_detail::cost_to_beat_facing(opt.heading, pose.heading, facing_cost,
@@ -405,7 +407,8 @@ struct CvsmTracker::Impl {
     const std::int64_t silhouette_px = counts.silhouette_px[0] + counts.silhouette_px[1];
     // The front range prefers facing the frontal camera (subject_heading.hpp).
     for (std::size_t i = 0; i < probes.size(); ++i)
-      if (cvsm_detail::wrapped_heading(probes[i].pose.heading) == 0 &&
+      if (cvsm_detail::wrapped_heading(probes[i].pose.heading) ==
+              cvsm_detail::preferred_heading(opt.heading, probes[best].pose.heading) &&
           probes[best].cost >=
               cvsm_detail::cost_to_beat_facing(opt.heading, probes[best].pose.heading, probes[i].cost, silhouette_px))
         best = i;
@@ -544,8 +547,13 @@ struct CvsmTracker::Impl {
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     subject->lower_body_hidden = hiding[0] || hiding[1];
     if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
-    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, opt.heading);
+    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
     heading_resolved = heading.resolved();
+    front_back = {};
+    if (heading.sides_compared) {
+      front_back.add(heading);
+      heading_resolved = front_back.decided();
+    }
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
 
@@ -590,9 +598,15 @@ struct CvsmTracker::Impl {
         cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
         fresh.measured_spine = subject->measured_spine;
         fresh.shape.posture = subject->shape.posture;
-        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine, opt.heading);
+        const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine, opt);
         heading_resolved = heading.resolved();
         candidates += heading.evaluations;
+        if (heading.sides_compared) {
+          // Over the full circle: decided by the comparisons summed so far.
+          front_back.add(heading);
+          heading_resolved = front_back.decided();
+          fresh.pose.heading = front_back.heading(heading);
+        }
         if (heading_resolved && fresh.pose.heading != subject->pose.heading)
           subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, fresh.pose.heading);
       }
@@ -701,6 +715,7 @@ struct CvsmTracker::Impl {
   // probe_headings at reacquisition): until they do, nothing is
   // published as tracking (docs/cvsm.md, "Heading").
   bool heading_resolved = true;
+  cvsm_detail::FrontBackEvidence front_back;  // the building pairs' mirror comparisons
 
   // What an occluder in front of the person hides in each view (docs/cvsm.md,
   // "Occluded lower body"): the cost does not count the model there.

@@ -66,9 +66,10 @@ cvsm_detail::HeadingChoice choose_on(const Views& v, double& heading) {
   XorCost cost(rig, kW, kH);
   cost.set_silhouettes(v.frontal, v.lateral);
   CvsmOptions options;
+  options.heading = HeadingRange::Any;
   cvsm_detail::SubjectEstimate s =
       cvsm_detail::initial_subject(rig, generic_cvsm_spec(), generic_spine_spec(), options, v.frontal, v.lateral);
-  const cvsm_detail::HeadingChoice choice = cvsm_detail::choose_heading(s, cost, generic_cvsm_spec(), generic_spine_spec(), HeadingRange::Any);
+  const cvsm_detail::HeadingChoice choice = cvsm_detail::choose_heading(s, cost, generic_cvsm_spec(), generic_spine_spec(), options);
   heading = s.pose.heading;
   return choice;
 }
