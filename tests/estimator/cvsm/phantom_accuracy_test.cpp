@@ -94,7 +94,8 @@ TEST(ProvisionalModel, TracksFromTheThirdPairAndLeavesTheCompleteModelsPosturesA
   auto seq = phantom::PhantomSequence::create(po);
   ASSERT_TRUE(seq.ok()) << seq.error().message;
   auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
-  const CvsmOptions provisional;
+  CvsmOptions provisional;
+  provisional.provisional_frames = 3;
   CvsmOptions complete_only;
   complete_only.provisional_frames = complete_only.subject_frames;
   CvsmTracker early(seq->options().rig, provisional), late(seq->options().rig, complete_only);

@@ -4,7 +4,6 @@
 // every condition; the stored-background conditions track as the clean
 // scene does; with no background at all the subject is bootstrapped and
 // tracked within 3 s, saying no_background until then.
-#include <cstdio>
 #include <map>
 #include <string>
 
@@ -30,17 +29,7 @@ TEST_P(SceneConditions, TrackingIsTrustworthyInEveryCondition) {
     auto seq = test::scene_sequence(c.scenario, c.subject, 3, condition);
     ASSERT_TRUE(seq) << seq.error().message;
     runs[std::string(condition.name)] = test::run_scene(*seq, test::scene_run_options(condition));
-    // The colour scene once more, fitted without the outline refinement
-    // (config [cvsm] refine_steps = 0): the reference of the colour bound below.
-    if (std::string(condition.name) == "colour") {
-      test::SceneRunOptions plain = test::scene_run_options(condition);
-      plain.estimator.cvsm.refine_steps = 0;
-      runs["colour_unrefined"] = test::run_scene(*seq, plain);
-    }
   }
-  for (const auto& [name, st] : runs)
-    std::printf("%-16s neck %5.2f waist %5.2f mm, %d tracking, %d lost\n", name.c_str(), test::mean(st.neck),
-                test::mean(st.waist), st.tracking, st.lost);
   for (const auto& [name, st] : runs) {
     SCOPED_TRACE(name);
     EXPECT_LE(st.worst, 50.0) << "a posture published as tracking was far off";
@@ -66,24 +55,15 @@ TEST_P(SceneConditions, TrackingIsTrustworthyInEveryCondition) {
   EXPECT_LE(test::mean(passer.waist), test::mean(clean.waist) + 2.0);
 
   // Colour: a cast shadow keeps the wall's chroma and is not taken for the
-  // person; clothing as bright as the wall is found by its colour. Held to
-  // issue 15's "within 2 mm of the clean scene", the clean colour scene
-  // fitted as the search alone fits it: an absolute level for each motion.
-  // The outline refinement (on by default) gains more on the clean scene
-  // than on these two (flexion/tall neck: clean colour 4.9 → 2.8 mm, with
-  // the shadow 6.4 → 5.5), so against the refined clean scene the shadow's
-  // own effect shows at 2.7 mm, while the shadowed fit is closer to the
-  // truth than without the refinement; docs/cvsm.md, "Outline refinement".
+  // person; clothing as bright as the wall is found by its colour.
   const auto& colour = runs.at("colour");
-  const auto& reference = runs.at("colour_unrefined");
   EXPECT_EQ(colour.lost, 0);
-  EXPECT_EQ(reference.lost, 0);
   for (const char* name : {"colour_shadow", "camouflage"}) {
     SCOPED_TRACE(name);
     const auto& st = runs.at(name);
     EXPECT_EQ(st.lost, 0);
-    EXPECT_LE(test::mean(st.neck), test::mean(reference.neck) + 2.0);
-    EXPECT_LE(test::mean(st.waist), test::mean(reference.waist) + 2.0);
+    EXPECT_LE(test::mean(st.neck), test::mean(colour.neck) + 2.0);
+    EXPECT_LE(test::mean(st.waist), test::mean(colour.waist) + 2.0);
   }
 
   // No background at all: init / no_background first, then tracking within 3 s.

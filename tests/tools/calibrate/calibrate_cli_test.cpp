@@ -90,9 +90,10 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
                                 (dir / "truth.yaml").string() + " --out " + (dir / "rec").string());
   ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
   // Replays with the true and the recovered calibration, without and with
-  // the fit's outline refinement (config [cvsm] refine_steps, one step by
-  // default).
+  // the fit's outline refinement (config [cvsm] refine_steps, off by
+  // default; one step here).
   std::ofstream(dir / "plain.toml") << "[cvsm]\nrefine_steps = 0\n";
+  std::ofstream(dir / "refined.toml") << "[cvsm]\nrefine_steps = 1\n";
   auto replay = [&](const std::string& calibration, const std::string& config, const std::string& out) {
     const auto r = test::run_cli("replay --recording " + (dir / "rec").string() + calibration + config + " --out " +
                                  (dir / out).string());
@@ -102,8 +103,9 @@ TEST_F(CalibrateCli, ReplayWithTheRecoveredCalibrationMatchesTheTrueOne) {
   const std::string plain_config = " --config " + (dir / "plain.toml").string();
   replay("", plain_config, "truth.ndjson");
   replay(recovered, plain_config, "rec.ndjson");
-  replay("", "", "truth_refined.ndjson");
-  replay(recovered, "", "rec_refined.ndjson");
+  const std::string refined_config = " --config " + (dir / "refined.toml").string();
+  replay("", refined_config, "truth_refined.ndjson");
+  replay(recovered, refined_config, "rec_refined.ndjson");
   struct Apart {
     double mean = 0, worst = 0;
     int tracked = 0;

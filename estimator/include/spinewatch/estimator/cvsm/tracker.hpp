@@ -27,8 +27,9 @@ struct CvsmOptions {
   int subject_frames = 10;       // upright frames that build the subject's model
   // From this many of them on, the pose fitted against the model built so
   // far is published as tracking while the model is still being built
-  // (docs/cvsm.md, "Provisional model"); ≥ subject_frames: only once built.
-  int provisional_frames = 3;
+  // (docs/cvsm.md, "Provisional model"); ≥ subject_frames (the default):
+  // only once built — early postures added confidently wrong ones.
+  int provisional_frames = 10;
   double lost_cost = 0.35;       // XOR / silhouette pixels above which tracking is lost
   double height_mm = 1750;       // used only when the head is cut off or the subject sits
   // The worker's stature when given (anatomy/worker.hpp): it replaces the
@@ -64,9 +65,10 @@ struct CvsmOptions {
   // Then, with refine_steps > 0 (config [cvsm] refine_steps), the pose
   // found is refined on the outline: that many Gauss–Newton steps pulling
   // the full model's outline ends on every n-th row to the silhouettes'
-  // edges (docs/cvsm.md, "Outline refinement"). One step by default;
-  // with fixed limbs only (articulated, it has no effect).
-  int refine_steps = 1;
+  // edges (docs/cvsm.md, "Outline refinement"). Off by default (it turned
+  // more postures with raised arms confidently wrong); with fixed limbs
+  // only (articulated, it has no effect).
+  int refine_steps = 0;
   int refine_row_step = 2;
   LimbMode limbs = LimbMode::Fixed;  // config [cvsm] limbs
   HeadingRange heading = HeadingRange::Fixed;  // config [cvsm] heading
