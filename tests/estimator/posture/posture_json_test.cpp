@@ -51,6 +51,40 @@ TEST(PostureJson, DecodeRoundTrip) {
   }
 }
 
+// A stream's quaternions carry six decimals, so a unit quaternion's norm
+// read back is up to a few 1e-6 from 1. Decoding keeps such a quaternion as
+// written: renormalising it would move a sixth decimal, and a line decoded
+// and encoded again would differ from the one read (fuzz_posture_line).
+TEST(PostureJson, AQuaternionItsDecimalsLeaveOffUnitIsKeptAsWritten) {
+  const std::string line = encode_posture(tracking_posture());
+  const auto t1 = nlohmann::json::parse(line)["vertebrae"][0]["q"].dump();
+  const std::size_t at = line.find(t1);
+  ASSERT_NE(at, std::string::npos);
+  std::string off_unit = line;
+  off_unit.replace(at, t1.size(), "[0.992124,0.12,0.03,0.02]");  // norm 1 + 5.0e-6
+
+  auto decoded = decode_posture(off_unit, "line 1");
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+  const Eigen::Quaterniond q = (*decoded->vertebrae)[0].q;
+  EXPECT_EQ(q.w(), 0.992124);
+  EXPECT_EQ(q.x(), 0.12);
+  const std::string reencoded = encode_posture(*decoded);
+  EXPECT_NE(reencoded.find("[0.992124,0.12,0.03,0.02]"), std::string::npos) << reencoded;
+  auto again = decode_posture(reencoded, "line 2");
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(encode_posture(*again), reencoded);
+}
+
+TEST(PostureJson, AQuaternionFurtherOffUnitIsNormalised) {
+  const std::string line = encode_posture(tracking_posture());
+  const auto t1 = nlohmann::json::parse(line)["vertebrae"][0]["q"].dump();
+  std::string off_unit = line;
+  off_unit.replace(line.find(t1), t1.size(), "[0.9925,0.12,0.03,0.02]");  // norm 1 + 3.7e-4
+  auto decoded = decode_posture(off_unit, "line 1");
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+  EXPECT_NEAR((*decoded->vertebrae)[0].q.norm(), 1.0, 1e-12);
+}
+
 TEST(PostureJson, DecodeRejectsBadLinesWithWhere) {
   EXPECT_EQ(decode_posture("{", "gt.ndjson:4").error().message, "gt.ndjson:4: not valid JSON");
   EXPECT_EQ(decode_posture(R"({"seq": 1, "t_ns": 0, "state": "sleeping"})", "gt.ndjson:5").error().message,
