@@ -538,6 +538,7 @@ struct CvsmTracker::Impl {
     r.fit.candidates = 0;
     r.fit.flag = std::string(flag);
     if (phase != Phase::Building) phase = Phase::Searching;
+    if (phase != Phase::Building && flag == "no_person") left_view = true;
     return r;
   }
 
@@ -591,6 +592,22 @@ struct CvsmTracker::Impl {
     if (allowed != fresh.pose.heading)
       fresh.pose = cvsm_detail::turned_in_place(cvsm_detail::build(fresh, spec, spine), spine, fresh.pose, allowed);
     return fresh;
+  }
+  // Found again after he left the view (he may come back turned round):
+  // the sides weighed on this pair alone, the mirror believed when it leads
+  // by kAwayPreferenceFraction. Then held turned away as after the model.
+  // Not after a fit merely lost in view: on cameras tilted 45° one pair's
+  // lead strays past the margin, and 28496 tracked 22 % instead of 58 %.
+  void weigh_reacquired(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) {
+    facing_guard.restart();
+    const cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, pose.heading);
+    const cvsm_detail::HeadingChoice choice = cvsm_detail::weigh_against_mirror(fresh, *cost, spec, spine);
+    r.fit.candidates = r.fit.candidates.value_or(0) + choice.evaluations;
+    facing_guard.add(choice);
+    if (!facing_guard.says_away()) return;
+    held_away = true;
+    pose = cvsm_detail::turned_in_place(model, spine, pose, choice.away_heading);
+    facing_guard.restart();
   }
   // A pair tracked while the subject is held turned away: lost, flagged.
   // Every kRecheckPairs the sides are weighed again on this pair (he may
@@ -758,6 +775,10 @@ struct CvsmTracker::Impl {
       if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
     }
     withhold_unseen_pelvis(frontal, lateral, r);
+    if (searched_globally && r.state == TrackingState::Tracking && left_view && !held_away &&
+        opt.heading != HeadingRange::Any)
+      weigh_reacquired(frontal, lateral, r);
+    if (r.state == TrackingState::Tracking) left_view = false;
     if (held_away) hold_turned_away(frontal, lateral, r);
     return r;
   }
@@ -790,6 +811,7 @@ struct CvsmTracker::Impl {
   // side he faces, and whether he is held turned away (nothing tracking).
   cvsm_detail::FacingGuard facing_guard;
   bool held_away = false;
+  bool left_view = false;  // no person in view since the last tracked pair
 
   // What an occluder in front of the person hides in each view (docs/cvsm.md,
   // "Occluded lower body"): the cost does not count the model there.

@@ -173,6 +173,60 @@ TEST(CvsmHeading, TheFixedRangeSaysLostWithTheBackToTheFrontalCamera) {
 TEST(CvsmHeading, TheFrontRangeSaysLostWithTheBackToTheFrontalCamera) {
   expect_lost_facing_away(180, HeadingRange::Front);
 }
+// He leaves and comes back with his back to the frontal camera: the range
+// still does not take that side, and the pair that finds him again weighs
+// it (docs/cvsm.md, "Turned away from the range"). The first render
+// (facing) is tracked; the second (turned 180°, after its empty frames)
+// has nothing tracking more than 50 mm off and is lost, facing_away.
+TEST(CvsmHeading, TheFixedRangeSaysLostWhenHeComesBackTurnedAway) {
+  auto render = [](double heading_deg) {
+    phantom::PhantomOptions po;
+    po.scenario = "flexion";
+    po.subject = test::load_named_subject("ansur-15936");
+    po.frames = 24;
+    po.seed = 2;
+    po.heading_deg = heading_deg;
+    return phantom::PhantomSequence::create(po);
+  };
+  auto facing = render(0), away = render(180);
+  ASSERT_TRUE(facing.ok()) << facing.error().message;
+  ASSERT_TRUE(away.ok()) << away.error().message;
+  auto view_of = [](const cv::Mat& m) { return LumaView{m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; };
+  SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
+  CvsmTracker tracker(facing->options().rig, CvsmOptions{});
+  struct Counts {
+    int person_frames = 0, tracking = 0, wrong = 0, facing_away = 0;
+  };
+  auto run = [&](phantom::PhantomSequence& seq) {
+    Counts c;
+    for (int i = 0; i < seq.frame_count(); ++i) {
+      const phantom::PhantomFrame f = seq.render(i);
+      const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
+      if (!f.truth.vertebrae) continue;
+      ++c.person_frames;
+      c.facing_away += r.state == TrackingState::Lost && r.fit.flag == std::string(kFacingAwayFlag);
+      if (r.state != TrackingState::Tracking) continue;
+      ++c.tracking;
+      for (std::size_t k = 0; k < kVertebraCount; ++k)
+        if ((r.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm() > test::kWrongMm) {
+          ++c.wrong;
+          break;
+        }
+    }
+    return c;
+  };
+  const Counts first = run(*facing);
+  const Counts back = run(*away);
+  std::printf("facing, then back turned: tracking %d (%d wrong), then tracking %d (%d wrong), %d facing_away\n",
+              first.tracking, first.wrong, back.tracking, back.wrong, back.facing_away);
+  ASSERT_EQ(first.person_frames, 24);
+  ASSERT_EQ(back.person_frames, 24);
+  EXPECT_GE(first.tracking, 14);
+  EXPECT_EQ(first.wrong, 0);
+  EXPECT_EQ(back.wrong, 0);
+  EXPECT_GE(back.facing_away, 20);
+}
+
 // The same render facing the frontal camera is tracked, never flagged.
 TEST(CvsmHeading, TheFixedRangeTracksTheSubjectFacingTheFrontalCamera) {
   const HeadingRun run = run_turned(0, LimbMode::Fixed, HeadingRange::Fixed);
