@@ -11,6 +11,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/segment_scan.cpp
   ${CMAKE_CURRENT_LIST_DIR}/subject_estimate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/subject_heading.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/facing_check.cpp
   ${CMAKE_CURRENT_LIST_DIR}/upright_view.cpp
   ${CMAKE_CURRENT_LIST_DIR}/template_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp)

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cvsm/coordinate_search.hpp"
+#include "cvsm/facing_check.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
 #include "cvsm/pelvis_in_view.hpp"
@@ -537,6 +538,7 @@ struct CvsmTracker::Impl {
     r.fit.candidates = 0;
     r.fit.flag = std::string(flag);
     if (phase != Phase::Building) phase = Phase::Searching;
+    if (phase != Phase::Building && flag == "no_person") left_view = true;
     return r;
   }
 
@@ -546,6 +548,8 @@ struct CvsmTracker::Impl {
     subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
     subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
     subject->lower_body_hidden = hiding[0] || hiding[1];
+    facing_guard = {};
+    held_away = false;
     if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
     const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
     heading_resolved = heading.resolved();
@@ -555,6 +559,79 @@ struct CvsmTracker::Impl {
       heading_resolved = front_back.decided();
     }
     return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+  }
+
+  // Where the range does not take the side turned away (fixed, front):
+  // `s` at its heading against its mirror, added to the guard's evidence;
+  // once it says the subject faces away, the subject model is turned to
+  // that side (fitted as he stands) and held there, every posture lost
+  // (docs/cvsm.md, "Turned away from the range"). Returns evaluations.
+  // On the pair that completes the model (`completes`) a lean away is enough.
+  int weigh_facing(cvsm_detail::SubjectEstimate& s, bool completes) {
+    if (opt.heading == HeadingRange::Any || !facing_guard.weighing()) return 0;
+    const cvsm_detail::HeadingChoice choice = cvsm_detail::weigh_against_mirror(s, *cost, spec, spine);
+    facing_guard.add(choice);
+    if (facing_guard.says_away() || (completes && facing_guard.leans_away())) {
+      held_away = true;
+      s.pose = cvsm_detail::turned_in_place(cvsm_detail::build(s, spec, spine), spine, s.pose, choice.away_heading);
+    }
+    return choice.evaluations;
+  }
+  // This pair's own first estimate at the heading the range allows nearest
+  // the subject's (its mirror when he is held turned away), shaped as the
+  // subject model so far: weighed from here, the side the model was refined
+  // at does not start ahead.
+  cvsm_detail::SubjectEstimate fresh_at_allowed_heading(const BitMask& frontal, const BitMask& lateral,
+                                                        double heading_deg) const {
+    cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+    fresh.measured_spine = subject->measured_spine;
+    fresh.shape.posture = subject->shape.posture;
+    const double allowed = cvsm_detail::heading_allowed(opt.heading, heading_deg)
+                               ? heading_deg
+                               : cvsm_detail::wrapped_heading(heading_deg + 180);
+    if (allowed != fresh.pose.heading)
+      fresh.pose = cvsm_detail::turned_in_place(cvsm_detail::build(fresh, spec, spine), spine, fresh.pose, allowed);
+    return fresh;
+  }
+  // Found again after he left the view (he may come back turned round):
+  // the sides weighed on this pair alone, the mirror believed when it leads
+  // by kAwayPreferenceFraction. Then held turned away as after the model.
+  // Not after a fit merely lost in view: on cameras tilted 45° one pair's
+  // lead strays past the margin, and 28496 tracked 22 % instead of 58 %.
+  void weigh_reacquired(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) {
+    facing_guard.restart();
+    const cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, pose.heading);
+    const cvsm_detail::HeadingChoice choice = cvsm_detail::weigh_against_mirror(fresh, *cost, spec, spine);
+    r.fit.candidates = r.fit.candidates.value_or(0) + choice.evaluations;
+    facing_guard.add(choice);
+    if (!facing_guard.says_away()) return;
+    held_away = true;
+    pose = cvsm_detail::turned_in_place(model, spine, pose, choice.away_heading);
+    facing_guard.restart();
+  }
+  // A pair tracked while the subject is held turned away: lost, flagged.
+  // Every kRecheckPairs the sides are weighed again on this pair (he may
+  // have turned round); once the allowed side leads, the pose is turned
+  // back to it and the next pair is tracked as usual.
+  void hold_turned_away(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) {
+    if (facing_guard.recheck_due()) {
+      cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, pose.heading);
+      const cvsm_detail::HeadingChoice choice = cvsm_detail::weigh_against_mirror(fresh, *cost, spec, spine);
+      r.fit.candidates = r.fit.candidates.value_or(0) + choice.evaluations;
+      facing_guard.add(choice);
+      if (facing_guard.says_back()) {
+        held_away = false;
+        pose = cvsm_detail::turned_in_place(model, spine, pose, choice.facing_heading);
+        facing_guard.restart();
+      } else if (facing_guard.leans_away()) {
+        facing_guard.restart();  // still turned away: the next weighing starts afresh
+      }
+    }
+    if (r.state == TrackingState::Tracking) {
+      r.state = TrackingState::Lost;
+      // Turned away says more than an unresolved twist (of a mirror image).
+      if (!r.fit.flag || *r.fit.flag == kTwistUnresolvedFlag) r.fit.flag = std::string(kFacingAwayFlag);
+    }
   }
 
   CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag) {
@@ -610,6 +687,13 @@ struct CvsmTracker::Impl {
         if (heading_resolved && fresh.pose.heading != subject->pose.heading)
           subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, fresh.pose.heading);
       }
+      if (facing_guard.weighing() && opt.heading != HeadingRange::Any) {
+        cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, subject->pose.heading);
+        candidates += weigh_facing(fresh, init_frames + 1 >= opt.subject_frames);
+        if (held_away)
+          subject->pose = cvsm_detail::turned_in_place(cvsm_detail::build(*subject, spec, spine), spine, subject->pose,
+                                                       fresh.pose.heading);
+      }
       candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
       model = cvsm_detail::build(*subject, spec, spine);
       search_model = thin_trunk(model, opt.search_vertebra_step);
@@ -625,7 +709,9 @@ struct CvsmTracker::Impl {
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
         withhold_unseen_pelvis(frontal, lateral, r);
-      } else if (init_frames >= opt.provisional_frames && heading_resolved && pelvis_seen(frontal, lateral, r)) {
+        if (held_away) hold_turned_away(frontal, lateral, r);
+      } else if (init_frames >= opt.provisional_frames && heading_resolved && !held_away &&
+                 pelvis_seen(frontal, lateral, r)) {
         publish_provisional(r);
       }
       return r;
@@ -689,6 +775,11 @@ struct CvsmTracker::Impl {
       if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
     }
     withhold_unseen_pelvis(frontal, lateral, r);
+    if (searched_globally && r.state == TrackingState::Tracking && left_view && !held_away &&
+        opt.heading != HeadingRange::Any)
+      weigh_reacquired(frontal, lateral, r);
+    if (r.state == TrackingState::Tracking) left_view = false;
+    if (held_away) hold_turned_away(frontal, lateral, r);
     return r;
   }
 
@@ -716,6 +807,11 @@ struct CvsmTracker::Impl {
   // published as tracking (docs/cvsm.md, "Heading").
   bool heading_resolved = true;
   cvsm_detail::FrontBackEvidence front_back;  // the building pairs' mirror comparisons
+  // Where the range does not take the side turned away: the evidence of the
+  // side he faces, and whether he is held turned away (nothing tracking).
+  cvsm_detail::FacingGuard facing_guard;
+  bool held_away = false;
+  bool left_view = false;  // no person in view since the last tracked pair
 
   // What an occluder in front of the person hides in each view (docs/cvsm.md,
   // "Occluded lower body"): the cost does not count the model there.

@@ -17,6 +17,11 @@ inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
 // out of the picture").
 inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
 
+// The subject turned his back to the frontal camera where [cvsm] heading
+// ("fixed", "front") does not take that side: the fit would be his mirror
+// image, so the pair is lost (docs/cvsm.md, "Turned away from the range").
+inline constexpr std::string_view kFacingAwayFlag = "facing_away";
+
 // Not a pair: a camera went away here; one lost posture marks the gap.
 inline constexpr std::string_view kCameraLostFlag = "camera_lost";
 
