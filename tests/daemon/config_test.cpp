@@ -244,15 +244,19 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
 }
 
 // cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
-// fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
+// fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff,
+// CvsmLimbs.Auto*).
 TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
   EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Fixed);
   auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
   EXPECT_EQ(estimator_options(*on).cvsm.limbs, LimbMode::Articulated);
+  auto automatic = parse_config("[cvsm]\nlimbs = \"auto\"\n", "s.toml");
+  ASSERT_TRUE(automatic) << automatic.error().message;
+  EXPECT_EQ(estimator_options(*automatic).cvsm.limbs, LimbMode::Auto);
   auto bad = parse_config("[cvsm]\nlimbs = \"free\"\n", "s.toml");
   ASSERT_FALSE(bad);
-  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated");
+  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated, auto");
 }
 
 // cvsm.heading reaches the estimator, "fixed" by default (its effect on the

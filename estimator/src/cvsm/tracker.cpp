@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cvsm/coordinate_search.hpp"
+#include "cvsm/lower_residual.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
 #include "cvsm/pelvis_in_view.hpp"
@@ -489,6 +490,12 @@ struct CvsmTracker::Impl {
   // silhouettes' pixels (the reported cost).
   static constexpr double kArmsEvidenceRise = 0.1;
   static constexpr double kArmsGain = 0.02;
+  // ... and only when the arms' fit leaves at most this share of the
+  // silhouettes unexplained below the waist: above it the legs moved,
+  // which the arms cannot explain (on the development subject, 28496:
+  // 0.009–0.057 with the arms overhead but for one pair of 0.080, 0.083–
+  // 0.17 in a lunge, 0.11–0.24 in a stride).
+  static constexpr double kArmsLowerResidualMax = 0.06;
   // Where an arm is engaged from hanging, each shoulder angle is also
   // tried at these angles: a raised arm is found wherever it is (the
   // probes' ±20° from hanging find only an arm that has just begun).
@@ -516,7 +523,22 @@ struct CvsmTracker::Impl {
       }
     return evaluations;
   }
-  void try_arms(CvsmResult& r, TwistCheck& twist, const CvsmPose& before, bool searched_globally, std::string_view flag) {
+  // The share of both silhouettes' pixels the fit at `points` leaves
+  // unexplained below the waist's row in each view (lower_residual.hpp).
+  double residual_below_waist(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) {
+    const BitMask* masks[2] = {&frontal, &lateral};
+    const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
+    std::int64_t n = 0;
+    for (std::size_t v = 0; v < 2; ++v) {
+      const std::optional<Eigen::Vector2d> waist = cams[v]->project(r.waist);
+      if (!waist) continue;
+      const BitMask drawn = cost->render(model, points, v == 0 ? View::Frontal : View::Lateral);
+      n += cvsm_detail::xor_below(drawn, *masks[v], hiding[v] ? &hidden[v] : nullptr, static_cast<int>(std::ceil(waist->y())));
+    }
+    return static_cast<double>(n) / static_cast<double>(std::max<std::int64_t>(1, silhouette_px));
+  }
+  void try_arms(CvsmResult& r, TwistCheck& twist, const CvsmPose& before, bool searched_globally, std::string_view flag,
+                const BitMask& frontal, const BitMask& lateral) {
     const bool engaged = !before.limbs.neutral();
     if (!engaged && r.fit.cost < best_building_cost + kArmsEvidenceRise) return;
     const CvsmPose fixed_pose = pose;
@@ -541,16 +563,27 @@ struct CvsmTracker::Impl {
     TwistCheck arms_twist = check_twist_sign(candidates);
     arms_pass = wide_arms = false;
     CvsmResult armed = finish(TrackingState::Tracking, fixed.fit.candidates.value_or(0) + candidates, flag);
-    if (armed.fit.cost <= fixed.fit.cost - kArmsGain) {
+    // The gain must be the arms': the same trunk with the arms hanging
+    // explains kArmsGain less. (A step or a lunge also raises the fixed
+    // fit's cost, and the armless trunk's search gains there by moving the
+    // trunk, not the arms: lunge 35 → 86 confidently wrong without this.)
+    const double below = residual_below_waist(frontal, lateral, armed);
+    CvsmPose hanging = pose;
+    hanging.limbs = {};
+    const double hanging_cost = evaluate(model, hanging, INT64_MAX).cost();
+    if (armed.fit.cost <= fixed.fit.cost - kArmsGain && armed.fit.cost <= hanging_cost - kArmsGain &&
+        below <= kArmsLowerResidualMax) {
       r = armed;
+      r.fit.candidates = armed.fit.candidates.value_or(0) + 1;
       twist = arms_twist;
-      return;
+    } else {
+      // The fixed fit stands, as found (the work done counted).
+      pose = fixed_pose;
+      r = fixed;
+      r.fit.candidates = fixed.fit.candidates.value_or(0) + candidates + 1;
     }
-    // The fixed fit stands, as found (the work done counted).
-    pose = fixed_pose;
+    // The reported pose's points (fitted_mask()).
     control_points(model, pose_vertebrae(model, spine, pose), points, pose.limbs, pose.heading);
-    r = fixed;
-    r.fit.candidates = fixed.fit.candidates.value_or(0) + candidates;
   }
 
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
@@ -746,7 +779,7 @@ struct CvsmTracker::Impl {
     candidates += refine(frontal, lateral, refining() ? opt.refine_steps : 0);
     anchored = true;
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
-    if (opt.limbs == LimbMode::Auto) try_arms(r, twist, before, searched_globally, flag);
+    if (opt.limbs == LimbMode::Auto) try_arms(r, twist, before, searched_globally, flag, frontal, lateral);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.
     if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);
