@@ -169,7 +169,7 @@ void BM_PairSilhouettesAndFitRefineSteps(benchmark::State& state) {
 }
 BENCHMARK(BM_PairSilhouettesAndFitRefineSteps)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 // The same with articulated limbs (config [cvsm] limbs = "articulated";
-// "fixed" by default): the trunk's search, the limbs' (trunk held), the
+// "auto" by default): the trunk's search, the limbs' (trunk held), the
 // trunk's again (docs/cvsm.md, "Articulated limbs").
 void BM_PairSilhouettesAndFitArticulatedLimbs(benchmark::State& state) {
   CvsmOptions options;

@@ -243,11 +243,14 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");
 }
 
-// cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
+// cvsm.limbs reaches the estimator, "auto" by default (its effect on the
 // fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff,
 // CvsmLimbs.Auto*).
-TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Fixed);
+TEST(Config, LimbsReachTheEstimatorAutoByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Auto);
+  auto fixed = parse_config("[cvsm]\nlimbs = \"fixed\"\n", "s.toml");
+  ASSERT_TRUE(fixed) << fixed.error().message;
+  EXPECT_EQ(estimator_options(*fixed).cvsm.limbs, LimbMode::Fixed);
   auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
   EXPECT_EQ(estimator_options(*on).cvsm.limbs, LimbMode::Articulated);
