@@ -501,7 +501,7 @@ struct CvsmTracker::Impl {
   // probes' ±20° from hanging find only an arm that has just begun).
   static constexpr std::array<double, 4> kArmPlacementsDeg{45, 90, 135, 170};
   bool arms_pass = false;  // the arms' search of the auto mode is running
-  bool wide_arms = false;  // ... and the arms were hanging at the pair before
+  bool wide_arms = false;  // ... and it starts from hanging arms
   bool searching_limbs() const { return opt.limbs == LimbMode::Articulated || arms_pass; }
   // Which of the limbs' parameters the search moves: all of them, or in
   // the auto mode the arms' (the shoulders' two angles and the elbow).
@@ -544,7 +544,7 @@ struct CvsmTracker::Impl {
     const CvsmPose fixed_pose = pose;
     const CvsmResult fixed = r;
     arms_pass = true;
-    wide_arms = !engaged;
+    wide_arms = !engaged || searched_globally;  // the arms hanging where the search starts
     cost->set_row_step(opt.search_row_step);
     int candidates = 0;
     if (searched_globally) {
@@ -564,9 +564,10 @@ struct CvsmTracker::Impl {
     arms_pass = wide_arms = false;
     CvsmResult armed = finish(TrackingState::Tracking, fixed.fit.candidates.value_or(0) + candidates, flag);
     // The gain must be the arms': the same trunk with the arms hanging
-    // explains kArmsGain less. (A step or a lunge also raises the fixed
-    // fit's cost, and the armless trunk's search gains there by moving the
-    // trunk, not the arms: lunge 35 → 86 confidently wrong without this.)
+    // explains kArmsGain less (a guard: no phantom row came out otherwise
+    // without it). And what the legs drew must be explained: a step or a
+    // lunge also raises the fixed fit's cost, and the arms and the armless
+    // trunk lower it (lunge 35 → 86 confidently wrong without this check).
     const double below = residual_below_waist(frontal, lateral, armed);
     CvsmPose hanging = pose;
     hanging.limbs = {};
