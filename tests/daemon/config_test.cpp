@@ -391,11 +391,11 @@ TEST(ConfigKeys, TheAnnotatedFileCheckFindsAMissingAnUnknownAndAWrongDefault) {
   EXPECT_EQ(annotated_config_problems(other, "a.toml"),
             (std::vector<std::string>{fmt::format("a.toml:{}: cvsm.lost_cost: 0.4 here, but the key's default is 0.35",
                                                   line_of(text, "lost_cost = 0.35"))}));
-  const std::string mode = with_line(text, "limbs = \"fixed\"", "limbs = \"articulated\"");
+  const std::string mode = with_line(text, "limbs = \"auto\"", "limbs = \"articulated\"");
   EXPECT_EQ(annotated_config_problems(mode, "a.toml"),
             (std::vector<std::string>{fmt::format(
-                "a.toml:{}: cvsm.limbs: \"articulated\" here, but the key's default is \"fixed\"",
-                line_of(text, "limbs = \"fixed\""))}));
+                "a.toml:{}: cvsm.limbs: \"articulated\" here, but the key's default is \"auto\"",
+                line_of(text, "limbs = \"auto\""))}));
 }
 
 // Each entry reads and writes its own member: a value other than the
