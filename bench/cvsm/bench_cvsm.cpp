@@ -169,7 +169,7 @@ void BM_PairSilhouettesAndFitRefineSteps(benchmark::State& state) {
 }
 BENCHMARK(BM_PairSilhouettesAndFitRefineSteps)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 // The same with articulated limbs (config [cvsm] limbs = "articulated";
-// "fixed" by default): the trunk's search, the limbs' (trunk held), the
+// "auto" by default): the trunk's search, the limbs' (trunk held), the
 // trunk's again (docs/cvsm.md, "Articulated limbs").
 void BM_PairSilhouettesAndFitArticulatedLimbs(benchmark::State& state) {
   CvsmOptions options;
@@ -177,6 +177,16 @@ void BM_PairSilhouettesAndFitArticulatedLimbs(benchmark::State& state) {
   pair_silhouettes_and_fit(state, false, false, "flexion", options);
 }
 BENCHMARK(BM_PairSilhouettesAndFitArticulatedLimbs)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
+// Auto limbs (config [cvsm] limbs = "auto"): the fixed fit, and the arms'
+// search where its cost rises (docs/cvsm.md, "Arms where the views show
+// them"). /0: fixed limbs on `arms_overhead`; /1: auto on `arms_overhead`
+// (the arms searched on most pairs); /2: auto on `flexion` (never engaged).
+void BM_PairSilhouettesAndFitAutoLimbs(benchmark::State& state) {
+  CvsmOptions options;
+  options.limbs = state.range(0) == 0 ? LimbMode::Fixed : LimbMode::Auto;
+  pair_silhouettes_and_fit(state, false, false, state.range(0) == 2 ? "flexion" : "arms_overhead", options);
+}
+BENCHMARK(BM_PairSilhouettesAndFitAutoLimbs)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->ComputeStatistics("median", median_of);
 
 // A block-shaped person over the background, 2 % brighter exposure.
 cv::Mat block_person_frame(const cv::Mat& bg, unsigned seed) {

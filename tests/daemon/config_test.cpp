@@ -243,16 +243,23 @@ TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
   EXPECT_EQ(renamed.error().message, "s.toml:2: cvsm.refine_sweeps: unknown key; it is now cvsm.refine_steps");
 }
 
-// cvsm.limbs reaches the estimator, "fixed" by default (its effect on the
-// fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff).
-TEST(Config, LimbsReachTheEstimatorFixedByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Fixed);
+// cvsm.limbs reaches the estimator, "auto" by default (its effect on the
+// fit: tests/estimator/cvsm, CvsmLimbs.ArticulatedFitKeepsTheTrunkWhereTheFixedOneIsPulledOff,
+// CvsmLimbs.Auto*).
+TEST(Config, LimbsReachTheEstimatorAutoByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.limbs, LimbMode::Auto);
+  auto fixed = parse_config("[cvsm]\nlimbs = \"fixed\"\n", "s.toml");
+  ASSERT_TRUE(fixed) << fixed.error().message;
+  EXPECT_EQ(estimator_options(*fixed).cvsm.limbs, LimbMode::Fixed);
   auto on = parse_config("[cvsm]\nlimbs = \"articulated\"\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
   EXPECT_EQ(estimator_options(*on).cvsm.limbs, LimbMode::Articulated);
+  auto automatic = parse_config("[cvsm]\nlimbs = \"auto\"\n", "s.toml");
+  ASSERT_TRUE(automatic) << automatic.error().message;
+  EXPECT_EQ(estimator_options(*automatic).cvsm.limbs, LimbMode::Auto);
   auto bad = parse_config("[cvsm]\nlimbs = \"free\"\n", "s.toml");
   ASSERT_FALSE(bad);
-  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated");
+  EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated, auto");
 }
 
 // cvsm.heading reaches the estimator, "fixed" by default (its effect on the
@@ -384,11 +391,11 @@ TEST(ConfigKeys, TheAnnotatedFileCheckFindsAMissingAnUnknownAndAWrongDefault) {
   EXPECT_EQ(annotated_config_problems(other, "a.toml"),
             (std::vector<std::string>{fmt::format("a.toml:{}: cvsm.lost_cost: 0.4 here, but the key's default is 0.35",
                                                   line_of(text, "lost_cost = 0.35"))}));
-  const std::string mode = with_line(text, "limbs = \"fixed\"", "limbs = \"articulated\"");
+  const std::string mode = with_line(text, "limbs = \"auto\"", "limbs = \"articulated\"");
   EXPECT_EQ(annotated_config_problems(mode, "a.toml"),
             (std::vector<std::string>{fmt::format(
-                "a.toml:{}: cvsm.limbs: \"articulated\" here, but the key's default is \"fixed\"",
-                line_of(text, "limbs = \"fixed\""))}));
+                "a.toml:{}: cvsm.limbs: \"articulated\" here, but the key's default is \"auto\"",
+                line_of(text, "limbs = \"auto\""))}));
 }
 
 // Each entry reads and writes its own member: a value other than the

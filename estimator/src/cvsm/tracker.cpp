@@ -5,6 +5,7 @@
 
 #include "cvsm/coordinate_search.hpp"
 #include "cvsm/facing_check.hpp"
+#include "cvsm/lower_residual.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
 #include "cvsm/pelvis_in_view.hpp"
@@ -205,7 +206,7 @@ struct CvsmTracker::Impl {
   // In the cost's sampled pixels, per degree².
   static constexpr double kLimbPxPerDeg2 = 0.02;
   double limb_penalty(const LimbPose& limbs) const {
-    if (opt.limbs != LimbMode::Articulated) return 0;
+    if (opt.limbs == LimbMode::Fixed) return 0;
     double sum = 0;
     for (const double a : to_limb_params(limbs)) sum += a * a;
     return kLimbPxPerDeg2 * sum / cost->row_step();
@@ -261,7 +262,7 @@ struct CvsmTracker::Impl {
   // evaluations beyond the probes). Returns the evaluations spent.
   static constexpr std::array<double, 4> kLimbProbesDeg{20, -20, 10, -10};
   int limb_search(int budget, double step_deg, int levels) {
-    if (opt.limbs != LimbMode::Articulated || budget <= 0) return 0;
+    if (!searching_limbs() || budget <= 0) return 0;
     const PoseParams trunk = to_params(pose);
     CvsmPose candidate = pose;
     auto limb_cost = [&](const LimbParams& l, std::int64_t limit) -> std::int64_t {
@@ -278,6 +279,7 @@ struct CvsmTracker::Impl {
     // probes farther out, keeping the best, then the descent settles it.
     for (std::size_t i = 0; i < kLimbParams; ++i)
       for (const double probe : kLimbProbesDeg) {
+        if (!searched_limb(i)) continue;
         LimbParams trial = best;
         trial[i] += probe;
         ++evaluations;
@@ -287,8 +289,9 @@ struct CvsmTracker::Impl {
           best = trial;
         }
       }
+    evaluations += place_arms(best, best_cost, limb_cost);
     LimbParams step;
-    step.fill(step_deg);
+    for (std::size_t i = 0; i < kLimbParams; ++i) step[i] = searched_limb(i) ? step_deg : 0;
     auto d = coordinate_descent(best, best_cost, step, levels, budget, limb_cost, true);
     pose.limbs = to_limbs(d.params);
     return evaluations + d.evaluations;
@@ -297,7 +300,7 @@ struct CvsmTracker::Impl {
   // The trunk again, the limbs held where their search left them: half
   // the tracked search's steps, one level. Returns the evaluations spent.
   int joint_refinement(int budget) {
-    if (opt.limbs != LimbMode::Articulated || budget <= 0) return 0;
+    if (!searching_limbs() || budget <= 0) return 0;
     const PoseParams start = to_params(pose);
     const std::int64_t start_cost = cost_of(start, INT64_MAX);
     const PoseParams step{1, 1, 1, 1, 0.5, 2.5, 1.5, 2.5};
@@ -317,7 +320,9 @@ struct CvsmTracker::Impl {
   // refined trunk, no longer finds a raised arm (CvsmLimbs.ArticulatedFit…:
   // the right shoulder at −16° for the truth's 90°), and the trunk's search
   // keeps its whole budget.
-  bool refining() const { return opt.refine_steps > 0 && opt.limbs == LimbMode::Fixed; }
+  bool refining() const {
+    return opt.refine_steps > 0 && (opt.limbs == LimbMode::Fixed || (opt.limbs == LimbMode::Auto && !arms_pass));
+  }
   int refine(const BitMask& frontal, const BitMask& lateral, int steps) {
     if (steps <= 0) return 0;
     cost->set_row_step(opt.refine_row_step);
@@ -474,6 +479,113 @@ struct CvsmTracker::Impl {
     if (other < kept) pose = trunk_pose(mirrored);
     t.margin_px = std::abs(other - kept);
     return t;
+  }
+
+  // Auto limbs (docs/cvsm.md, "Arms where the views show them"): the fixed
+  // fit, and the arms' search only where that fit leaves more of the
+  // silhouettes unexplained than the subject's own baseline (the best fit
+  // of the model's building pairs) by kArmsEvidenceRise, or where the arms
+  // were raised at the pair before. The arms' fit is then kept only when
+  // it explains kArmsGain of the silhouettes' pixels more than the fixed
+  // fit; else the fixed fit stands as it was found. Ratios of the
+  // silhouettes' pixels (the reported cost).
+  static constexpr double kArmsEvidenceRise = 0.1;
+  static constexpr double kArmsGain = 0.02;
+  // ... and only when the arms' fit leaves at most this share of the
+  // silhouettes unexplained below the waist: above it the legs moved,
+  // which the arms cannot explain (on the development subject, 28496:
+  // 0.009–0.057 with the arms overhead but for one pair of 0.080, 0.083–
+  // 0.17 in a lunge, 0.11–0.24 in a stride).
+  static constexpr double kArmsLowerResidualMax = 0.06;
+  // Where an arm is engaged from hanging, each shoulder angle is also
+  // tried at these angles: a raised arm is found wherever it is (the
+  // probes' ±20° from hanging find only an arm that has just begun).
+  static constexpr std::array<double, 4> kArmPlacementsDeg{45, 90, 135, 170};
+  bool arms_pass = false;  // the arms' search of the auto mode is running
+  bool wide_arms = false;  // ... and it starts from hanging arms
+  bool searching_limbs() const { return opt.limbs == LimbMode::Articulated || arms_pass; }
+  // Which of the limbs' parameters the search moves: all of them, or in
+  // the auto mode the arms' (the shoulders' two angles and the elbow).
+  bool searched_limb(std::size_t i) const { return opt.limbs == LimbMode::Articulated || (i < 12 && i % 6 < 3); }
+  template <class LimbCost>
+  int place_arms(LimbParams& best, std::int64_t& best_cost, LimbCost& limb_cost) {
+    if (!wide_arms) return 0;
+    int evaluations = 0;
+    for (const std::size_t i : {std::size_t{0}, std::size_t{1}, std::size_t{6}, std::size_t{7}})
+      for (const double angle : kArmPlacementsDeg) {
+        LimbParams trial = best;
+        trial[i] = angle;
+        ++evaluations;
+        const std::int64_t c = limb_cost(trial, best_cost);
+        if (c < best_cost) {
+          best_cost = c;
+          best = trial;
+        }
+      }
+    return evaluations;
+  }
+  // The share of both silhouettes' pixels the fit at `points` leaves
+  // unexplained below the waist's row in each view (lower_residual.hpp).
+  double residual_below_waist(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) {
+    const BitMask* masks[2] = {&frontal, &lateral};
+    const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
+    std::int64_t n = 0;
+    for (std::size_t v = 0; v < 2; ++v) {
+      const std::optional<Eigen::Vector2d> waist = cams[v]->project(r.waist);
+      if (!waist) continue;
+      const BitMask drawn = cost->render(model, points, v == 0 ? View::Frontal : View::Lateral);
+      n += cvsm_detail::xor_below(drawn, *masks[v], hiding[v] ? &hidden[v] : nullptr, static_cast<int>(std::ceil(waist->y())));
+    }
+    return static_cast<double>(n) / static_cast<double>(std::max<std::int64_t>(1, silhouette_px));
+  }
+  void try_arms(CvsmResult& r, TwistCheck& twist, const CvsmPose& before, bool searched_globally, std::string_view flag,
+                const BitMask& frontal, const BitMask& lateral) {
+    const bool engaged = !before.limbs.neutral();
+    if (!engaged && r.fit.cost < best_building_cost + kArmsEvidenceRise) return;
+    const CvsmPose fixed_pose = pose;
+    const CvsmResult fixed = r;
+    arms_pass = true;
+    wide_arms = !engaged || searched_globally;  // the arms hanging where the search starts
+    cost->set_row_step(opt.search_row_step);
+    int candidates = 0;
+    if (searched_globally) {
+      // Found again by the fixed fit: the arms from hanging, in wide steps.
+      candidates += limb_search(2 * opt.limb_budget, 8, 3);
+    } else {
+      // The trunk by the trunk's outline, from where it was; then the arms.
+      pose = before;
+      pose.heading = fixed_pose.heading;
+      trunk_search_model = &armless_model;
+      candidates += local_search(opt.local_budget);
+      trunk_search_model = &search_model;
+      candidates += limb_search(opt.limb_budget, 4, 2);
+    }
+    candidates += joint_refinement(opt.joint_budget);
+    TwistCheck arms_twist = check_twist_sign(candidates);
+    arms_pass = wide_arms = false;
+    CvsmResult armed = finish(TrackingState::Tracking, fixed.fit.candidates.value_or(0) + candidates, flag);
+    // The gain must be the arms': the same trunk with the arms hanging
+    // explains kArmsGain less (a guard: no phantom row came out otherwise
+    // without it). And what the legs drew must be explained: a step or a
+    // lunge also raises the fixed fit's cost, and the arms and the armless
+    // trunk lower it (lunge 35 → 86 confidently wrong without this check).
+    const double below = residual_below_waist(frontal, lateral, armed);
+    CvsmPose hanging = pose;
+    hanging.limbs = {};
+    const double hanging_cost = evaluate(model, hanging, INT64_MAX).cost();
+    if (armed.fit.cost <= fixed.fit.cost - kArmsGain && armed.fit.cost <= hanging_cost - kArmsGain &&
+        below <= kArmsLowerResidualMax) {
+      r = armed;
+      r.fit.candidates = armed.fit.candidates.value_or(0) + 1;
+      twist = arms_twist;
+    } else {
+      // The fixed fit stands, as found (the work done counted).
+      pose = fixed_pose;
+      r = fixed;
+      r.fit.candidates = fixed.fit.candidates.value_or(0) + candidates + 1;
+    }
+    // The reported pose's points (fitted_mask()).
+    control_points(model, pose_vertebrae(model, spine, pose), points, pose.limbs, pose.heading);
   }
 
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag) {
@@ -726,6 +838,8 @@ struct CvsmTracker::Impl {
     // result even when lost; otherwise the last good pose is kept).
     const bool predicted = phase == Phase::Predicting;
     const bool searched_globally = phase == Phase::Searching;
+    // Auto limbs: the fixed fit first, whatever the arms did before.
+    if (opt.limbs == LimbMode::Auto) pose.limbs = {};
     if (searched_globally) {
       anchored = false;
       candidates = probe_headings();
@@ -745,13 +859,14 @@ struct CvsmTracker::Impl {
       candidates += limb_search(opt.limb_budget, 4, 2);
       candidates += joint_refinement(opt.joint_budget);
     }
-    const TwistCheck twist = check_twist_sign(candidates);
+    TwistCheck twist = check_twist_sign(candidates);
     // Refined as it was searched: after a global search, unanchored (the
     // subject may have stepped; the anchor follows below).
     anchored = !searched_globally;
     candidates += refine(frontal, lateral, refining() ? opt.refine_steps : 0);
     anchored = true;
     CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
+    if (opt.limbs == LimbMode::Auto) try_arms(r, twist, before, searched_globally, flag, frontal, lateral);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.
     if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);

@@ -35,7 +35,7 @@ const OptionTable<CvsmConfig>& CvsmConfig::keys() {
       number_key("new_subject_after_s", &S::new_subject_after_s, 0.0, 86400.0),
       number_key("lost_cost", &S::lost_cost, 0.01, 2.0),
       integer_key("refine_steps", &S::refine_steps, 0, 4),
-      mode_key("limbs", &S::limbs, {{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}}),
+      mode_key("limbs", &S::limbs, {{"fixed", LimbMode::Fixed}, {"articulated", LimbMode::Articulated}, {"auto", LimbMode::Auto}}),
       mode_key("heading", &S::heading, {{"fixed", HeadingRange::Fixed}, {"front", HeadingRange::Front}, {"any", HeadingRange::Any}}),
   };
   return table;

@@ -136,5 +136,15 @@ TEST(BaselineFit, RefusesTrainingSubjectsAndUnknownRows) {
   EXPECT_NE(row.output.find("unknown row 'sideways'"), std::string::npos) << row.output;
 }
 
+// --modes takes [cvsm] limbs values, each once.
+TEST(BaselineFit, RefusesUnknownOrRepeatedLimbModes) {
+  for (const char* modes : {"fixed,loose", "auto,auto", ","}) {
+    auto r = test::run_command(script_command(std::string("--modes '") + modes + "' --rows flexion"));
+    EXPECT_EQ(r.exit_code, 2) << modes << ": " << r.output;
+    EXPECT_NE(r.output.find("give distinct [cvsm] limbs values among fixed, articulated, auto"), std::string::npos)
+        << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace spinewatch

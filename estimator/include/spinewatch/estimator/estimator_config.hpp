@@ -43,7 +43,7 @@ struct CvsmConfig {
   double new_subject_after_s = 2;    // someone in view after an empty scene this long: a new subject model; 0 = never
   double lost_cost = 0.35;           // cost above which tracking is lost
   int refine_steps = 0;              // outline refinement of each fit: Gauss–Newton steps, 0 = off
-  LimbMode limbs = LimbMode::Fixed;  // "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs")
+  LimbMode limbs = LimbMode::Auto;   // "auto", "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs", "Arms where the views show them")
   HeadingRange heading = HeadingRange::Fixed;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
   bool operator==(const CvsmConfig&) const = default;
   static const OptionTable<CvsmConfig>& keys();

@@ -70,9 +70,9 @@ struct CvsmOptions {
   // only (articulated, it has no effect).
   int refine_steps = 0;
   int refine_row_step = 2;
-  LimbMode limbs = LimbMode::Fixed;  // config [cvsm] limbs
+  LimbMode limbs = LimbMode::Auto;  // config [cvsm] limbs
   HeadingRange heading = HeadingRange::Fixed;  // config [cvsm] heading
-  // Tuning, articulated limbs only: evaluations of the limbs' search per
+  // Tuning, articulated limbs (and auto's arms): evaluations of the limbs' search per
   // tracked pair (the trunk held), then of the trunk's search again with
   // the limbs held (the joint refinement; 0: none).
   int limb_budget = 30;
