@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cvsm/coordinate_search.hpp"
+#include "cvsm/legs_region.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
 #include "cvsm/pelvis_in_view.hpp"
@@ -382,6 +383,49 @@ struct CvsmTracker::Impl {
     return 2;
   }
 
+  // A step aside (docs/cvsm.md, "A step aside"): the body moves with the
+  // feet, but the local search is held back twice — by the anchor (a step
+  // of 100 mm costs 5000 pixels) and by the template's straight, closed
+  // legs, whose outline keeps the pelvis over the leg that stood still.
+  // So, with the trunk near upright, the pose is searched again with the
+  // legs not counted (below the hips in both views) and unanchored, from
+  // the trunk straightened where it stands: translation first in wide
+  // steps, then every parameter. It replaces the local search's pose, and
+  // becomes the new home, only when it moved the body a step
+  // (kStepMinMm, more than the anchor lets sway) and fits the outline above
+  // the hips better by more than the cost's pair-to-pair noise
+  // (kStepMarginFraction, as the heading's margin). Not when bent forward
+  // (kStepUprightDeg): in a view that looks down, the bent trunk projects
+  // below the hips. About 60 evaluations.
+  static constexpr double kStepMinMm = 20;
+  static constexpr double kStepMarginFraction = cvsm_detail::kHeadingMarginFraction;
+  static constexpr double kStepUprightDeg = 15;
+  std::array<BitMask, 2> legs_hidden;
+  int follow_step() {
+    const PoseParams a = to_params(pose);
+    if (std::abs(a[0]) > kStepUprightDeg) return 0;
+    const SpinePose v = pose_vertebrae(model, spine, pose);
+    cvsm_detail::hide_below_hips(rig.frontal, model, v, hiding[0] ? &hidden[0] : nullptr, cost_width, cost_height, legs_hidden[0]);
+    cvsm_detail::hide_below_hips(rig.lateral, model, v, hiding[1] ? &hidden[1] : nullptr, cost_width, cost_height, legs_hidden[1]);
+    cost->set_hidden(&legs_hidden[0], &legs_hidden[1]);
+    anchored = false;
+    auto trunk_cost = [&](const PoseParams& q, std::int64_t limit) { return cost_of(q, limit); };
+    const std::int64_t searched = cost_of(a, INT64_MAX);
+    PoseParams straight = a;
+    straight[1] = straight[2] = straight[4] = 0;  // no side bend, twist or pelvis tilt
+    const auto moved = coordinate_descent(straight, cost_of(straight, INT64_MAX), PoseParams{0, 0, 0, 0, 0, 40, 0, 40}, 3, 24, trunk_cost);
+    const auto settled = coordinate_descent(moved.params, moved.best, PoseParams{4, 4, 4, 4, 2, 10, 6, 10}, 3, 60, trunk_cost);
+    anchored = true;
+    cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+    const auto margin = static_cast<std::int64_t>(kStepMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
+    const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[7] - a[7]);
+    if (settled.best + margin < searched && step_mm > kStepMinMm) {
+      pose = trunk_pose(settled.params);
+      home = pose.translation;
+    }
+    return 2 + moved.evaluations + settled.evaluations;
+  }
+
   // At (re)acquisition the subject may have turned any way: the full
   // circle, every kHeadingProbeDeg, at the upright trunk where the subject
   // was last; the global search then starts from the best.
@@ -655,6 +699,7 @@ struct CvsmTracker::Impl {
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
       candidates = local_search(refining() ? opt.refined_local_budget : opt.local_budget);
       candidates += follow_heading(searched_cost);
+      candidates += follow_step();
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
       candidates += joint_refinement(opt.joint_budget);
