@@ -392,7 +392,8 @@ struct CvsmTracker::Impl {
   // the trunk straightened where it stands: translation first in wide
   // steps, then every parameter. It replaces the local search's pose, and
   // becomes the new home, only when it moved the body a step
-  // (kStepMinMm, more than the anchor lets sway) and fits the outline above
+  // (kStepMinMm, more than the anchor lets sway — up, down or across: a
+  // lunge lowers the pelvis) and fits the outline above
   // the hips better by more than the cost's pair-to-pair noise
   // (kStepMarginFraction, as the heading's margin). Not when bent forward
   // (kStepUprightDeg): in a view that looks down, the bent trunk projects
@@ -418,7 +419,7 @@ struct CvsmTracker::Impl {
     anchored = true;
     cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
     const auto margin = static_cast<std::int64_t>(kStepMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
-    const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[7] - a[7]);
+    const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[6] - a[6], settled.params[7] - a[7]);
     if (settled.best + margin < searched && step_mm > kStepMinMm) {
       pose = trunk_pose(settled.params);
       home = pose.translation;
@@ -660,6 +661,7 @@ struct CvsmTracker::Impl {
       armless_model = without_arms(search_model);
       pose = subject->pose;
       home = pose.translation;
+      built_height = pose.translation.y();
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
       best_building_cost = std::min(best_building_cost, r.fit.cost);
@@ -734,7 +736,27 @@ struct CvsmTracker::Impl {
       if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
     }
     withhold_unseen_pelvis(frontal, lateral, r);
+    withhold_bent_knees(r);
     return r;
+  }
+
+  // The pelvis well below where the subject stood when the model was built
+  // (docs/cvsm.md, "A step aside"): the knees are bent (a lunge, a squat),
+  // which the fixed limbs' straight legs cannot draw, so the waist's height
+  // rests on the trunk's outline alone and was 45–70 mm off on the
+  // development subject's lunge. Not published as tracking. With both
+  // knees bent by θ (thigh and shank ≈ 0.25 of the stature each, each
+  // turned θ/2 from the vertical) the hips drop 2·0.25·H·(1 − cos θ/2):
+  // 25 mm is about 30° for a 1.7 m subject; standing, the anchor lets the
+  // hips sway by at most 15 mm on the phantom's rows.
+  static constexpr double kKneesBentMm = 25;
+  double built_height = 0;  // the translation's height the subject model was built at
+  void withhold_bent_knees(CvsmResult& r) const {
+    if (r.state != TrackingState::Tracking || opt.limbs != LimbMode::Fixed ||
+        model.shape.posture != SubjectPosture::Standing || pose.translation.y() > built_height - kKneesBentMm)
+      return;
+    r.state = TrackingState::Lost;
+    if (!r.fit.flag) r.fit.flag = std::string(kKneesBentFlag);
   }
 
   // Neither view shows the pelvis — each ends before it (an edge of the
