@@ -397,14 +397,16 @@ struct CvsmTracker::Impl {
   // the hips better by more than the cost's pair-to-pair noise
   // (kStepMarginFraction, as the heading's margin). Not when bent forward
   // (kStepUprightDeg): in a view that looks down, the bent trunk projects
-  // below the hips. About 60 evaluations.
+  // below the hips. About 60 evaluations. Fixed limbs only: with the
+  // articulated ones it also followed the steps, but added confidently
+  // wrong postures in the cluttered room (docs/cvsm.md, "A step aside").
   static constexpr double kStepMinMm = 20;
   static constexpr double kStepMarginFraction = cvsm_detail::kHeadingMarginFraction;
   static constexpr double kStepUprightDeg = 15;
   std::array<BitMask, 2> legs_hidden;
   int follow_step() {
     const PoseParams a = to_params(pose);
-    if (std::abs(a[0]) > kStepUprightDeg) return 0;
+    if (opt.limbs != LimbMode::Fixed || std::abs(a[0]) > kStepUprightDeg) return 0;
     const SpinePose v = pose_vertebrae(model, spine, pose);
     cvsm_detail::hide_below_hips(rig.frontal, model, v, hiding[0] ? &hidden[0] : nullptr, cost_width, cost_height, legs_hidden[0]);
     cvsm_detail::hide_below_hips(rig.lateral, model, v, hiding[1] ? &hidden[1] : nullptr, cost_width, cost_height, legs_hidden[1]);
