@@ -750,12 +750,16 @@ struct CvsmTracker::Impl {
   // knees bent by θ (thigh and shank ≈ 0.25 of the stature each, each
   // turned θ/2 from the vertical) the hips drop 2·0.25·H·(1 − cos θ/2):
   // 25 mm is about 30° for a 1.7 m subject; standing, the anchor lets the
-  // hips sway by at most 15 mm on the phantom's rows.
+  // hips sway by at most 15 mm on the phantom's rows. Only with the trunk
+  // upright, as the step search: bent forward in a view that looks down,
+  // the fit lowers the hips too (a camera tilted 45°: 6 of 30 pairs of a
+  // bend lost without it).
   static constexpr double kKneesBentMm = 25;
   double built_height = 0;  // the translation's height the subject model was built at
   void withhold_bent_knees(CvsmResult& r) const {
     if (r.state != TrackingState::Tracking || opt.limbs != LimbMode::Fixed ||
-        model.shape.posture != SubjectPosture::Standing || pose.translation.y() > built_height - kKneesBentMm)
+        model.shape.posture != SubjectPosture::Standing || pose.translation.y() > built_height - kKneesBentMm ||
+        std::abs(to_params(pose)[0]) > kStepUprightDeg)
       return;
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kKneesBentFlag);
