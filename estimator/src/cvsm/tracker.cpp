@@ -5,6 +5,7 @@
 
 #include "cvsm/coordinate_search.hpp"
 #include "cvsm/facing_check.hpp"
+#include "cvsm/legs_region.hpp"
 #include "cvsm/lower_residual.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
@@ -386,6 +387,53 @@ struct CvsmTracker::Impl {
       return 3;
     }
     return 2;
+  }
+
+  // A step aside (docs/cvsm.md, "A step aside"): the body moves with the
+  // feet, but the local search is held back twice — by the anchor (a step
+  // of 100 mm costs 5000 pixels) and by the template's straight, closed
+  // legs, whose outline keeps the pelvis over the leg that stood still.
+  // So, with the trunk near upright, the pose is searched again with the
+  // legs not counted (below the hips in both views) and unanchored, from
+  // the trunk straightened where it stands: translation first in wide
+  // steps, then every parameter. It replaces the local search's pose, and
+  // becomes the new home, only when it moved the body a step
+  // (kStepMinMm, more than the anchor lets sway — up, down or across: a
+  // lunge lowers the pelvis) and fits the outline above
+  // the hips better by more than the cost's pair-to-pair noise
+  // (kStepMarginFraction, as the heading's margin). Not when bent forward
+  // (kStepUprightDeg): in a view that looks down, the bent trunk projects
+  // below the hips. About 60 evaluations. With the legs held straight
+  // ("fixed", and "auto"'s fixed fit) only: with articulated limbs it also
+  // followed the steps, but added confidently wrong postures in the
+  // cluttered room (docs/cvsm.md, "A step aside").
+  static constexpr double kStepMinMm = 20;
+  static constexpr double kStepMarginFraction = cvsm_detail::kHeadingMarginFraction;
+  static constexpr double kStepUprightDeg = 15;
+  std::array<BitMask, 2> legs_hidden;
+  int follow_step() {
+    const PoseParams a = to_params(pose);
+    if (opt.limbs == LimbMode::Articulated || std::abs(a[0]) > kStepUprightDeg) return 0;
+    const SpinePose v = pose_vertebrae(model, spine, pose);
+    cvsm_detail::hide_below_hips(rig.frontal, model, v, hiding[0] ? &hidden[0] : nullptr, cost_width, cost_height, legs_hidden[0]);
+    cvsm_detail::hide_below_hips(rig.lateral, model, v, hiding[1] ? &hidden[1] : nullptr, cost_width, cost_height, legs_hidden[1]);
+    cost->set_hidden(&legs_hidden[0], &legs_hidden[1]);
+    anchored = false;
+    auto trunk_cost = [&](const PoseParams& q, std::int64_t limit) { return cost_of(q, limit); };
+    const std::int64_t searched = cost_of(a, INT64_MAX);
+    PoseParams straight = a;
+    straight[1] = straight[2] = straight[4] = 0;  // no side bend, twist or pelvis tilt
+    const auto moved = coordinate_descent(straight, cost_of(straight, INT64_MAX), PoseParams{0, 0, 0, 0, 0, 40, 0, 40}, 3, 24, trunk_cost);
+    const auto settled = coordinate_descent(moved.params, moved.best, PoseParams{4, 4, 4, 4, 2, 10, 6, 10}, 3, 60, trunk_cost);
+    anchored = true;
+    cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+    const auto margin = static_cast<std::int64_t>(kStepMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
+    const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[6] - a[6], settled.params[7] - a[7]);
+    if (settled.best + margin < searched && step_mm > kStepMinMm) {
+      pose = trunk_pose(settled.params);
+      home = pose.translation;
+    }
+    return 2 + moved.evaluations + settled.evaluations;
   }
 
   // At (re)acquisition the subject may have turned any way: the full
@@ -812,6 +860,7 @@ struct CvsmTracker::Impl {
       armless_model = without_arms(search_model);
       pose = subject->pose;
       home = pose.translation;
+      built_height = pose.translation.y();
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
       best_building_cost = std::min(best_building_cost, r.fit.cost);
@@ -855,6 +904,7 @@ struct CvsmTracker::Impl {
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
       candidates = local_search(refining() ? opt.refined_local_budget : opt.local_budget);
       candidates += follow_heading(searched_cost);
+      candidates += follow_step();
       trunk_search_model = &search_model;
       candidates += limb_search(opt.limb_budget, 4, 2);
       candidates += joint_refinement(opt.joint_budget);
@@ -890,12 +940,36 @@ struct CvsmTracker::Impl {
       if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
     }
     withhold_unseen_pelvis(frontal, lateral, r);
+    withhold_bent_knees(r);
     if (searched_globally && r.state == TrackingState::Tracking && left_view && !held_away &&
         opt.heading != HeadingRange::Any)
       weigh_reacquired(frontal, lateral, r);
     if (r.state == TrackingState::Tracking) left_view = false;
     if (held_away) hold_turned_away(frontal, lateral, r);
     return r;
+  }
+
+  // The pelvis well below where the subject stood when the model was built
+  // (docs/cvsm.md, "A step aside"): the knees are bent (a lunge, a squat),
+  // which the fixed limbs' straight legs cannot draw, so the waist's height
+  // rests on the trunk's outline alone and was 45–70 mm off on the
+  // development subject's lunge. Not published as tracking. With both
+  // knees bent by θ (thigh and shank ≈ 0.25 of the stature each, each
+  // turned θ/2 from the vertical) the hips drop 2·0.25·H·(1 − cos θ/2):
+  // 25 mm is about 30° for a 1.7 m subject; standing, the anchor lets the
+  // hips sway by at most 15 mm on the phantom's rows. Only with the trunk
+  // upright, as the step search: bent forward in a view that looks down,
+  // the fit lowers the hips too (a camera tilted 45°: 6 of 30 pairs of a
+  // bend lost without it).
+  static constexpr double kKneesBentMm = 25;
+  double built_height = 0;  // the translation's height the subject model was built at
+  void withhold_bent_knees(CvsmResult& r) const {
+    if (r.state != TrackingState::Tracking || opt.limbs == LimbMode::Articulated ||
+        model.shape.posture != SubjectPosture::Standing || pose.translation.y() > built_height - kKneesBentMm ||
+        std::abs(to_params(pose)[0]) > kStepUprightDeg)
+      return;
+    r.state = TrackingState::Lost;
+    if (!r.fit.flag) r.fit.flag = std::string(kKneesBentFlag);
   }
 
   // Neither view shows the pelvis — each ends before it (an edge of the

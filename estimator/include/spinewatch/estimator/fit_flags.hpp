@@ -22,6 +22,12 @@ inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
 // image, so the pair is lost (docs/cvsm.md, "Turned away from the range").
 inline constexpr std::string_view kFacingAwayFlag = "facing_away";
 
+// A standing subject's pelvis well below where it stood: the knees are bent
+// (a lunge, a squat), which the fixed limbs' straight legs cannot draw, so
+// the waist's height is not pinned and the pair is lost (docs/cvsm.md, "A
+// step aside").
+inline constexpr std::string_view kKneesBentFlag = "knees_bent";
+
 // Not a pair: a camera went away here; one lost posture marks the gap.
 inline constexpr std::string_view kCameraLostFlag = "camera_lost";
 
