@@ -410,10 +410,16 @@ struct CvsmTracker::Impl {
   static constexpr double kStepMinMm = 20;
   static constexpr double kStepMarginFraction = cvsm_detail::kHeadingMarginFraction;
   static constexpr double kStepUprightDeg = 15;
+  // Only where the local search bent the trunk sideways: a step drawn by
+  // closed legs comes out as a side bend over hips that stayed (stride,
+  // 28496: 39°), and a twisting or swaying subject was otherwise moved by
+  // it (the exposure shift's twists: 7.87 s over 60° read as 6.07 s).
+  static constexpr double kStepSideBendDeg = 8;
   std::array<BitMask, 2> legs_hidden;
   int follow_step() {
     const PoseParams a = to_params(pose);
-    if (opt.limbs == LimbMode::Articulated || std::abs(a[0]) > kStepUprightDeg) return 0;
+    if (opt.limbs == LimbMode::Articulated || std::abs(a[0]) > kStepUprightDeg || std::abs(a[1]) < kStepSideBendDeg)
+      return 0;
     const SpinePose v = pose_vertebrae(model, spine, pose);
     cvsm_detail::hide_below_hips(rig.frontal, model, v, hiding[0] ? &hidden[0] : nullptr, cost_width, cost_height, legs_hidden[0]);
     cvsm_detail::hide_below_hips(rig.lateral, model, v, hiding[1] ? &hidden[1] : nullptr, cost_width, cost_height, legs_hidden[1]);
@@ -422,14 +428,17 @@ struct CvsmTracker::Impl {
     auto trunk_cost = [&](const PoseParams& q, std::int64_t limit) { return cost_of(q, limit); };
     const std::int64_t searched = cost_of(a, INT64_MAX);
     PoseParams straight = a;
-    straight[1] = straight[2] = straight[4] = 0;  // no side bend, twist or pelvis tilt
+    straight[1] = straight[4] = 0;  // no side bend or pelvis tilt; the twist kept (a twist is not a step)
     const auto moved = coordinate_descent(straight, cost_of(straight, INT64_MAX), PoseParams{0, 0, 0, 0, 0, 40, 0, 40}, 3, 24, trunk_cost);
     const auto settled = coordinate_descent(moved.params, moved.best, PoseParams{4, 4, 4, 4, 2, 10, 6, 10}, 3, 60, trunk_cost);
     anchored = true;
     cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
     const auto margin = static_cast<std::int64_t>(kStepMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
     const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[6] - a[6], settled.params[7] - a[7]);
-    if (settled.best + margin < searched && step_mm > kStepMinMm) {
+    // A step explains the local search's side bend away; a pose that keeps
+    // most of it is a side bend (with a twist, a sway), not a step.
+    const bool bend_explained = std::abs(settled.params[1]) < 0.5 * std::abs(a[1]);
+    if (settled.best + margin < searched && step_mm > kStepMinMm && bend_explained) {
       pose = trunk_pose(settled.params);
       home = pose.translation;
     }
