@@ -29,6 +29,15 @@ namespace {
 using PoseParams = std::array<double, 8>;  // T, lateral, twist, pelvis residual, pelvis lateral, tx, ty, tz
 constexpr double kPelvisShare = 1.0 / 3.0;
 
+// The options without the worker's given body (stature, landmarks, mass):
+// for a subject whose given stature the views contradicted.
+CvsmOptions without_given_body(CvsmOptions o) {
+  o.stature_mm.reset();
+  o.c7_height_mm.reset();
+  o.iliac_crest_height_mm.reset();
+  o.mass_kg.reset();
+  return o;
+}
 PoseParams to_params(const CvsmPose& p) {
   const double total = p.flexion + p.pelvis_flexion;
   return {total, p.lateral, p.twist, p.pelvis_flexion - kPelvisShare * total, p.pelvis_lateral,
@@ -752,7 +761,11 @@ struct CvsmTracker::Impl {
   // at does not start ahead.
   cvsm_detail::SubjectEstimate fresh_at_allowed_heading(const BitMask& frontal, const BitMask& lateral,
                                                         double heading_deg) const {
-    cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+    // Placed for the body the model is built for: not for a given stature
+    // the views contradicted (a man 250 mm shorter than in view led for
+    // his mirror, and every pair was held turned away).
+    const CvsmOptions placed = subject->rejected_stature_mm ? without_given_body(opt) : opt;
+    cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, placed, frontal, lateral);
     fresh.measured_spine = subject->measured_spine;
     fresh.shape.posture = subject->shape.posture;
     const double allowed = cvsm_detail::heading_allowed(opt.heading, heading_deg)
@@ -827,12 +840,7 @@ struct CvsmTracker::Impl {
           // for it (fitted 12.2 mm off where nothing given gave 9.5), so it
           // starts over as if nothing were given.
           const std::optional<double> rejected = subject->rejected_stature_mm;
-          CvsmOptions unknown = opt;
-          unknown.stature_mm.reset();
-          unknown.c7_height_mm.reset();
-          unknown.iliac_crest_height_mm.reset();
-          unknown.mass_kg.reset();
-          candidates += start_subject(frontal, lateral, unknown);
+          candidates += start_subject(frontal, lateral, without_given_body(opt));
           subject->rejected_stature_mm = rejected;
         }
       } else if (!heading_resolved) {
@@ -869,7 +877,7 @@ struct CvsmTracker::Impl {
       armless_model = without_arms(search_model);
       pose = subject->pose;
       home = pose.translation;
-      built_height = pose.translation.y();
+      standing_height.reset();
       ++init_frames;
       CvsmResult r = finish(TrackingState::Init, candidates, flag);
       best_building_cost = std::min(best_building_cost, r.fit.cost);
@@ -958,25 +966,29 @@ struct CvsmTracker::Impl {
     return r;
   }
 
-  // The pelvis well below where the subject stood when the model was built
-  // (docs/cvsm.md, "A step aside"): the knees are bent (a lunge, a squat),
-  // which the fixed limbs' straight legs cannot draw, so the waist's height
-  // rests on the trunk's outline alone and was 45–70 mm off on the
-  // development subject's lunge. Not published as tracking. With both
-  // knees bent by θ (thigh and shank ≈ 0.25 of the stature each, each
-  // turned θ/2 from the vertical) the hips drop 2·0.25·H·(1 − cos θ/2):
-  // 25 mm is about 30° for a 1.7 m subject; standing, the anchor lets the
-  // hips sway by at most 15 mm on the phantom's rows. Only with the trunk
-  // upright, as the step search: bent forward in a view that looks down,
-  // the fit lowers the hips too (a camera tilted 45°: 6 of 30 pairs of a
-  // bend lost without it).
+  // The pelvis well below where the subject stood on the first upright
+  // pair tracked on the complete model (docs/cvsm.md, "A step aside"): the
+  // knees are bent (a lunge, a squat), which the fixed limbs' straight legs
+  // cannot draw, so the waist's height rests on the trunk's outline alone
+  // and was 45–70 mm off on the development subject's lunge. Not published
+  // as tracking. With both knees bent by θ (thigh and shank ≈ 0.25 of the
+  // stature each, each turned θ/2 from the vertical) the hips drop
+  // 2·0.25·H·(1 − cos θ/2): 25 mm is about 30° for a 1.7 m subject;
+  // standing, the anchor lets the hips sway by at most 15 mm on the
+  // phantom's rows. Measured by the tracked fit itself, not by the model's
+  // building, which fits shape and pose together: a model held to a given
+  // stature 250 mm above the body's sits 120 mm lower once tracked, its
+  // knees straight. Only with the trunk upright, as the step search: bent
+  // forward in a view that looks down, the fit lowers the hips too (a
+  // camera tilted 45°: 6 of 30 pairs of a bend lost without it).
   static constexpr double kKneesBentMm = 25;
-  double built_height = 0;  // the translation's height the subject model was built at
-  void withhold_bent_knees(CvsmResult& r) const {
+  std::optional<double> standing_height;  // reset when a subject model is built
+  void withhold_bent_knees(CvsmResult& r) {
     if (r.state != TrackingState::Tracking || opt.limbs == LimbMode::Articulated ||
-        model.shape.posture != SubjectPosture::Standing || pose.translation.y() > built_height - kKneesBentMm ||
-        std::abs(to_params(pose)[0]) > kStepUprightDeg)
+        model.shape.posture != SubjectPosture::Standing || std::abs(to_params(pose)[0]) > kStepUprightDeg)
       return;
+    if (!standing_height) standing_height = pose.translation.y();
+    if (pose.translation.y() > *standing_height - kKneesBentMm) return;
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kKneesBentFlag);
   }

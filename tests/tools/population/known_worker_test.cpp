@@ -142,9 +142,20 @@ TEST(KnownWorker, AStatureTheCamerasContradictIsSetAsideAndSaidSo) {
   const Posture& s = last_tracking(shod);
   EXPECT_EQ(s.worker->stature_source, BodyValueSource::Given);
   EXPECT_FALSE(s.worker->rejected_stature_mm);
-  const Posture& t = last_tracking(taller);
-  EXPECT_EQ(t.worker->stature_source, BodyValueSource::Given);
-  EXPECT_FALSE(t.worker->rejected_stature_mm);
+  // A stature 250 mm above the body in view is not contradicted (a body
+  // bending looks shorter than it is) and is kept; but its model fits the
+  // views too badly to be tracked: once published as tracking 193 mm off
+  // at neck and waist, its pairs are now lost (the model, too tall, fits
+  // its own mirror image better and is held as turned away).
+  ASSERT_TRUE(taller.back().worker);
+  EXPECT_EQ(taller.back().worker->stature_source, BodyValueSource::Given);
+  EXPECT_FALSE(taller.back().worker->rejected_stature_mm);
+  for (std::size_t i = 0; i < taller.size(); ++i)
+    if (taller[i].state == TrackingState::Tracking) {
+      const Posture truth = seq.ground_truth(static_cast<int>(i));
+      EXPECT_LT((*taller[i].neck - *truth.neck).norm(), 50.0) << "pair " << i;
+      EXPECT_LT((*taller[i].waist - *truth.waist).norm(), 50.0) << "pair " << i;
+    }
 }
 
 // The loads follow the mass: the same worker given heavier loads L5 more,
