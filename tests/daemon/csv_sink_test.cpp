@@ -53,8 +53,13 @@ TEST(CsvSink, ANewOutputGetsEveryPostureAndIsClosedAtTheStop) {
   ASSERT_TRUE(daemon) << daemon.error().message;
   // Connected before the pipeline starts, the stream's client sees every
   // posture; the stop then lets the estimator thread finish handing out the
-  // last one before any output stops.
+  // last one before any output stops. The hello line says the publisher has
+  // taken the client in: connecting alone does not (the accept runs on the
+  // network thread, and on a loaded machine the fake source's 25 pairs were
+  // all published before it, so the client never saw the last).
   auto client = test::LineClient::unix_socket(dir / "sock");
+  const auto hello = client.read_line();
+  ASSERT_TRUE(hello && hello->find("\"class\":\"hello\"") != std::string::npos);
   std::thread runner([&] { (*daemon)->run(); });
   bool last_seen = false;
   while (auto line = client.read_line())
