@@ -59,7 +59,6 @@ class FacingGuard {
     evidence_ = {};
     weighed_ = 0;
   }
-  const FrontBackEvidence& evidence() const { return evidence_; }
   // The summed lead of the allowed side over its mirror, as a fraction of
   // the summed silhouettes (0 with nothing weighed).
   double lead_fraction() const {

@@ -755,17 +755,19 @@ struct CvsmTracker::Impl {
     }
     return choice.evaluations;
   }
+  // The options a pair's own first estimate is placed with: the subject
+  // model's — without a given stature the views contradicted (weighed for
+  // a man 250 mm shorter than in view, he led for his mirror and every pair
+  // was held turned away).
+  CvsmOptions placing_options() const { return subject->rejected_stature_mm ? without_given_body(opt) : opt; }
   // This pair's own first estimate at the heading the range allows nearest
   // the subject's (its mirror when he is held turned away), shaped as the
   // subject model so far: weighed from here, the side the model was refined
   // at does not start ahead.
   cvsm_detail::SubjectEstimate fresh_at_allowed_heading(const BitMask& frontal, const BitMask& lateral,
                                                         double heading_deg) const {
-    // Placed for the body the model is built for: not for a given stature
-    // the views contradicted (a man 250 mm shorter than in view led for
-    // his mirror, and every pair was held turned away).
-    const CvsmOptions placed = subject->rejected_stature_mm ? without_given_body(opt) : opt;
-    cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, placed, frontal, lateral);
+    cvsm_detail::SubjectEstimate fresh =
+        cvsm_detail::initial_subject(rig, spec, spine, placing_options(), frontal, lateral);
     fresh.measured_spine = subject->measured_spine;
     fresh.shape.posture = subject->shape.posture;
     const double allowed = cvsm_detail::heading_allowed(opt.heading, heading_deg)
@@ -849,7 +851,8 @@ struct CvsmTracker::Impl {
         // from this pair's own first estimate as on the first pair. (From
         // the model refined so far, the heading it was refined at starts
         // ahead of the others and wins by that alone.)
-        cvsm_detail::SubjectEstimate fresh = cvsm_detail::initial_subject(rig, spec, spine, opt, frontal, lateral);
+        cvsm_detail::SubjectEstimate fresh =
+            cvsm_detail::initial_subject(rig, spec, spine, placing_options(), frontal, lateral);
         fresh.measured_spine = subject->measured_spine;
         fresh.shape.posture = subject->shape.posture;
         const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(fresh, *cost, spec, spine, opt);
