@@ -668,7 +668,8 @@ struct CvsmTracker::Impl {
     r.fit.silhouette_lateral_px = c.silhouette_px[1];
     r.fit.candidates = candidates + 1;
     if (!flag.empty()) r.fit.flag = std::string(flag);
-    if (state == TrackingState::Tracking && r.fit.cost > opt.lost_cost) state = TrackingState::Lost;
+    if (state == TrackingState::Tracking && c.cost_against(built_silhouette_px) > opt.lost_cost)
+      state = TrackingState::Lost;
     r.state = state;
     r.neck = r.vertebrae[kNeckIndex].body_center;
     r.waist = r.vertebrae[kWaistIndex].body_center;
@@ -692,6 +693,10 @@ struct CvsmTracker::Impl {
   // rose to 0.039 at 20 mm (docs/cvsm.md, "Provisional model").
   static constexpr double kProvisionalCostRise = 0.04;
   double best_building_cost = 2;  // the lowest reported cost of the building's pairs
+  // Both views' silhouette pixels on the pair that completed the model: what
+  // a tracked pair's misfit is weighed against where its own outline is
+  // smaller (XorCounts::cost_against). 0 while the model is being built.
+  std::int64_t built_silhouette_px = 0;
   void publish_provisional(CvsmResult& r) {
     if (r.fit.cost > opt.lost_cost || r.fit.cost > best_building_cost + kProvisionalCostRise) return;
     if (hiding[0] && hiding[1]) return;
@@ -728,6 +733,7 @@ struct CvsmTracker::Impl {
     subject->lower_body_hidden = hiding[0] || hiding[1];
     facing_guard = {};
     held_away = false;
+    built_silhouette_px = 0;
     if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
     const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
     heading_resolved = heading.resolved();
@@ -887,6 +893,7 @@ struct CvsmTracker::Impl {
       // The model is complete only once the heading is known: a subject
       // whose front the views cannot tell from its back stays init.
       if (init_frames >= opt.subject_frames && heading_resolved) {
+        built_silhouette_px = *r.fit.silhouette_frontal_px + *r.fit.silhouette_lateral_px;
         r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
         withhold_unseen_pelvis(frontal, lateral, r);

@@ -16,6 +16,7 @@
 // planes whose points changed are projected and only segments touching
 // them are scan-converted again. The cache is keyed on the points
 // themselves, so it is exact whatever model or pose produced them.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -38,6 +39,16 @@ struct XorCounts {
   std::int64_t total() const { return xor_px[0] + xor_px[1]; }
   double cost() const {
     const auto s = silhouette_px[0] + silhouette_px[1];
+    return s > 0 ? static_cast<double>(total()) / static_cast<double>(s) : 1.0;
+  }
+  // The cost against the larger of the pair's silhouettes and `reference_px`
+  // (the subject's as the model was built): a view that foreshortens the
+  // person (a camera looking down at a trunk bent towards it) halves the
+  // outline's area while the misfit along the outline stays, so the share
+  // of the pair's own silhouette would rise with no worse fit
+  // (docs/cvsm.md, "Measuring along the world's vertical").
+  double cost_against(std::int64_t reference_px) const {
+    const auto s = std::max(silhouette_px[0] + silhouette_px[1], reference_px);
     return s > 0 ? static_cast<double>(total()) / static_cast<double>(s) : 1.0;
   }
 };

@@ -50,19 +50,22 @@ TEST(StationGeometry, RolledCamerasWithArticulatedLimbs) {
   EXPECT_LE(run.neck_mean(), 22.0);
 }
 
-TEST(StationGeometry, SteepCamerasKeepTheirShareAndAreNeverConfidentlyWrong) {
-  // Tilted 45° down the bent trunk is foreshortened to half its upright
-  // outline and the cost passes lost_cost near the deepest bend: those
-  // pairs are lost, not guessed. Measured on this render: 19 of 30
-  // tracking (the share asserted), 2 lost, neck mean 17.2 mm, worst
-  // vertebra 42 mm. The rows of a camera looking down are level, so the
-  // rectification leaves this fit as it was.
+TEST(StationGeometry, SteepCamerasTrackTheWholeBendAndAreNeverConfidentlyWrong) {
+  // Tilted 45° down, the trunk bent towards the frontal camera is
+  // foreshortened to half its upright outline while the misfit along the
+  // outline stays: against the pair's own silhouette the cost passed
+  // lost_cost near the deepest bend and those pairs were lost although the
+  // fit followed them (on the three ANSUR II test subjects 27 % of the
+  // person frames). The misfit is weighed against the subject's silhouette
+  // as built (XorCounts::cost_against), so every pair after the subject
+  // model's nine init pairs is tracked. The rows of a camera looking down
+  // are level, so the rectification leaves this fit as it was.
   phantom::StationGeometry geometry;
   geometry.tilt_deg = 45;
-  const test::TrustRun run = run_station(geometry, 30);
-  ASSERT_EQ(run.person_frames, 30);
+  const test::TrustRun run = run_station(geometry, 60);
+  ASSERT_EQ(run.person_frames, 60);
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
-  EXPECT_GE(run.tracking, 19);
+  EXPECT_GE(run.tracking, 51);
 }
 
 }  // namespace
