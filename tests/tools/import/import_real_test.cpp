@@ -35,6 +35,34 @@ std::string import_args(const char* session, const char* f, const char* l) {
                      q(s / (std::string(l) + ".mp4")), q(s / "camera_array.toml"), f, l);
 }
 
+// The tracking postures of a phantom's replay, and those with a vertebra
+// more than 50 mm from its ground truth (confidently wrong, issue 31).
+struct Tracked {
+  int tracking = 0, wrong = 0;
+};
+Tracked tracked_against_truth(const fs::path& recording, const fs::path& postures) {
+  std::map<std::int64_t, nlohmann::json> truth;
+  for (const auto& t : test::read_ndjson(recording / "ground_truth.ndjson")) truth[t["seq"].get<std::int64_t>()] = t;
+  Tracked tracked;
+  for (const auto& line : test::read_ndjson(postures)) {
+    if (line["state"] != "tracking") continue;
+    ++tracked.tracking;
+    const auto& t = truth.at(line["seq"].get<std::int64_t>());
+    double worst = 0;
+    for (std::size_t i = 0; i < line["vertebrae"].size(); ++i) {
+      const auto& e = line["vertebrae"][i]["body_center"];
+      const auto& g = t["vertebrae"][i]["body_center"];
+      worst = std::max(worst, std::hypot(e[0].get<double>() - g[0].get<double>(),
+                                         e[1].get<double>() - g[1].get<double>(), e[2].get<double>() - g[2].get<double>()));
+    }
+    if (worst > 50.0) {
+      ++tracked.wrong;
+      ADD_FAILURE() << "seq " << line["seq"] << ": a vertebra " << worst << " mm off, tracking";
+    }
+  }
+  return tracked;
+}
+
 class ImportReal : public ::testing::Test {
  protected:
   // charuco_calibration cam_0/cam_1 (83° apart), whole, crop from motion;
@@ -222,23 +250,57 @@ TEST_F(ImportReal, ItsGeometryPublishesNoWaistNeitherViewShows) {
   const fs::path out = dir_->path() / "seated-at-cam01.ndjson";
   auto replay = test::run_cli("replay --recording " + q(rec) + " --out " + q(out));
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
-  std::map<std::int64_t, nlohmann::json> truth;
-  for (const auto& t : test::read_ndjson(rec / "ground_truth.ndjson")) truth[t["seq"].get<std::int64_t>()] = t;
   int hidden = 0;
-  for (const auto& line : test::read_ndjson(out)) {
+  for (const auto& line : test::read_ndjson(out))
     if (line["state"] == "lost" && line["fit"].value("flag", "") == "lower_body_hidden") ++hidden;
-    if (line["state"] != "tracking") continue;
-    const auto& t = truth.at(line["seq"].get<std::int64_t>());
-    for (std::size_t i = 0; i < line["vertebrae"].size(); ++i) {
-      const auto& e = line["vertebrae"][i]["body_center"];
-      const auto& g = t["vertebrae"][i]["body_center"];
-      EXPECT_LT(std::hypot(e[0].get<double>() - g[0].get<double>(), e[1].get<double>() - g[1].get<double>(),
-                           e[2].get<double>() - g[2].get<double>()),
-                50.0)
-          << line.dump();
-    }
-  }
+  EXPECT_EQ(tracked_against_truth(rec, out).wrong, 0);
   EXPECT_GE(hidden, 5);  // the pairs after the subject model's 9 init pairs
+}
+
+// The phantom standing in the real room: the footage's first pair of
+// cam_0/cam_1, imported at the station's 320 × 240 with the crop the
+// varied phantom's real-room rows use (docs/accuracy.md), as the
+// photographs behind it, in the phantom's default station. In colour the
+// shirt is told from the wall behind it by its colour and every pair after
+// the subject model's nine init pairs is tracked; in grey the clothing is
+// as bright as the room, the silhouettes lose the trunk, and nothing is
+// published as tracking. Never a tracking posture more than 50 mm off.
+TEST_F(ImportReal, APhantomInTheRealRoomTracksInColourAndIsLostNotWrongInGrey) {
+  const fs::path room = dir_->path() / "room";
+  auto imported = test::run_cli(import_args("charuco_calibration", "cam_0", "cam_1") +
+                                " --frames 1 --crop 160,0,960,720 --out " + q(room));
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  auto reader = RecordingReader::open(room);
+  ASSERT_TRUE(reader) << reader.error().message;
+  BackgroundImages colour, grey;
+  for (View view : {View::Frontal, View::Lateral}) {
+    auto frame = reader->read(view, 0);
+    ASSERT_TRUE(frame) << frame.error().message;
+    const auto bytes = frame->bytes();
+    SceneImage& c = view == View::Frontal ? colour.frontal : colour.lateral;
+    SceneImage& g = view == View::Frontal ? grey.frontal : grey.lateral;
+    c = {static_cast<int>(frame->format().width), static_cast<int>(frame->format().height), 2,
+         std::vector<std::uint8_t>(bytes.begin(), bytes.end())};
+    g = {c.width, c.height, 1, {}};
+    for (std::size_t i = 0; i < c.pixels.size(); i += 2) g.pixels.push_back(c.pixels[i]);  // the luma
+  }
+  ::setenv("SPINEWATCH_ANSUR_DIR", test::source_path("../shared/data/ansur2").c_str(), 1);
+  for (const bool in_colour : {true, false}) {
+    const fs::path photos = dir_->path() / (in_colour ? "room-colour" : "room-grey");
+    ASSERT_TRUE(write_background_images(photos, in_colour ? colour : grey).ok());
+    const fs::path rec = photos / "rec", out = photos / "postures.ndjson";
+    auto render = test::run_cli("phantom --scenario flexion --subject ansur:28496 --frames 30" +
+                                std::string(in_colour ? " --colour" : "") + " --backdrop-frontal " +
+                                q(photos / "background_frontal.png") + " --backdrop-lateral " +
+                                q(photos / "background_lateral.png") + " --out " + q(rec));
+    ASSERT_EQ(render.exit_code, 0) << render.output;
+    auto replay = test::run_cli("replay --recording " + q(rec) + " --out " + q(out));
+    ASSERT_EQ(replay.exit_code, 0) << replay.output;
+    const Tracked tracked = tracked_against_truth(rec, out);
+    EXPECT_EQ(tracked.wrong, 0) << (in_colour ? "colour" : "grey");
+    if (in_colour) EXPECT_EQ(tracked.tracking, 21) << "every pair after the nine init pairs";
+    else EXPECT_EQ(tracked.tracking, 0);
+  }
 }
 
 // --offset pairs lateral frame i + N with frontal frame i; --up,
