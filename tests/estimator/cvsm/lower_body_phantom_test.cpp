@@ -65,7 +65,7 @@ test::TrustRun track_legs(const std::string& scenario, const std::string& ansur_
 // subject the check was made on: where the fit leaned the trunk over legs
 // the silhouettes show elsewhere, the pairs are lost, flagged
 // legs_unexplained, and what stays tracking is right. Without the check
-// (the withheld pairs tracked; the check does not change the fit) the lunge
+// (the withheld pairs tracked; the check does not change the tracker's fit) the lunge
 // had 2 tracked postures more than 50 mm off; with it none, 13 tracked;
 // the stride, all 51 tracked pairs right, loses none of them.
 TEST(LowerBody, LegsTheFitLeavesOutAreNotTracked) {
