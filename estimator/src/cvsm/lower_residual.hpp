@@ -15,4 +15,11 @@ namespace spinewatch::cvsm_detail {
 // size; first_row may lie outside the image.
 std::int64_t xor_below(const BitMask& model, const BitMask& silhouette, const BitMask* hidden, int first_row);
 
+// Of those, the silhouette's pixels the model does not draw: what the
+// person shows there and the fit leaves out (a leg stepped out of the
+// held-straight legs' outline), not what the model draws that the person
+// does not show (the hanging arms of a fit whose arms are raised).
+std::int64_t silhouette_outside_below(const BitMask& model, const BitMask& silhouette, const BitMask* hidden,
+                                      int first_row);
+
 }  // namespace spinewatch::cvsm_detail

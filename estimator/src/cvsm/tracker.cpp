@@ -6,6 +6,7 @@
 #include "cvsm/coordinate_search.hpp"
 #include "cvsm/facing_check.hpp"
 #include "cvsm/legs_region.hpp"
+#include "cvsm/legs_unexplained.hpp"
 #include "cvsm/lower_residual.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/outline_fit.hpp"
@@ -591,8 +592,11 @@ struct CvsmTracker::Impl {
     return evaluations;
   }
   // The share of both silhouettes' pixels the fit at `points` leaves
-  // unexplained below the waist's row in each view (lower_residual.hpp).
-  double residual_below_waist(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) {
+  // unexplained below the waist's row in each view (lower_residual.hpp):
+  // where the two differ, or only the silhouette's pixels the model misses.
+  enum class BelowWaist { Xor, SilhouetteOutside };
+  double residual_below_waist(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r,
+                              BelowWaist what = BelowWaist::Xor) {
     const BitMask* masks[2] = {&frontal, &lateral};
     const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
     std::int64_t n = 0;
@@ -600,7 +604,10 @@ struct CvsmTracker::Impl {
       const std::optional<Eigen::Vector2d> waist = cams[v]->project(r.waist);
       if (!waist) continue;
       const BitMask drawn = cost->render(model, points, v == 0 ? View::Frontal : View::Lateral);
-      n += cvsm_detail::xor_below(drawn, *masks[v], hiding[v] ? &hidden[v] : nullptr, static_cast<int>(std::ceil(waist->y())));
+      const BitMask* h = hiding[v] ? &hidden[v] : nullptr;
+      const int row = static_cast<int>(std::ceil(waist->y()));
+      n += what == BelowWaist::SilhouetteOutside ? cvsm_detail::silhouette_outside_below(drawn, *masks[v], h, row)
+                                                 : cvsm_detail::xor_below(drawn, *masks[v], h, row);
     }
     return static_cast<double>(n) / static_cast<double>(std::max<std::int64_t>(1, silhouette_px));
   }
@@ -898,6 +905,7 @@ struct CvsmTracker::Impl {
         phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
         withhold_unseen_pelvis(frontal, lateral, r);
         if (held_away) hold_turned_away(frontal, lateral, r);
+        withhold_unexplained_legs(frontal, lateral, r);
       } else if (init_frames >= opt.provisional_frames && heading_resolved && !held_away &&
                  pelvis_seen(frontal, lateral, r)) {
         publish_provisional(r);
@@ -973,6 +981,8 @@ struct CvsmTracker::Impl {
       weigh_reacquired(frontal, lateral, r);
     if (r.state == TrackingState::Tracking) left_view = false;
     if (held_away) hold_turned_away(frontal, lateral, r);
+    // After the heading's checks: turned away says more (a mirror image).
+    withhold_unexplained_legs(frontal, lateral, r);
     return r;
   }
 
@@ -1001,6 +1011,32 @@ struct CvsmTracker::Impl {
     if (pose.translation.y() > *standing_height - kKneesBentMm) return;
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kKneesBentFlag);
+  }
+
+  // Legs the held-straight model cannot draw, under a trunk leaning over
+  // them and a fit worse than the subject's baseline (legs_unexplained.hpp,
+  // docs/cvsm.md, "Legs the fit leaves out"): a step or a lunge read as a
+  // side bend. Not published as tracking; as with bent knees, the fit goes
+  // on from this pose (the phase is kept: a search from scratch would not
+  // draw the legs either).
+  void withhold_unexplained_legs(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) {
+    if (r.state != TrackingState::Tracking || opt.limbs == LimbMode::Articulated ||
+        model.shape.posture != SubjectPosture::Standing)
+      return;
+    const PoseParams a = to_params(r.pose);
+    cvsm_detail::LegsEvidence e;
+    e.lean_deg = std::abs(a[1] + a[4]);
+    e.cost_rise = r.fit.cost - best_building_cost;
+    // The cheap bounds first: the legs' share renders both views.
+    if (e.lean_deg < cvsm_detail::kLegsLeanDeg || e.cost_rise <= cvsm_detail::kLegsCostRise) return;
+    // The reported pose's points (the heading's checks evaluate others).
+    control_points(model, r.vertebrae, points, r.pose.limbs, r.pose.heading);
+    e.outside_share = residual_below_waist(frontal, lateral, r, BelowWaist::SilhouetteOutside);
+    if (!cvsm_detail::legs_unexplained(e)) return;
+    r.state = TrackingState::Lost;
+    // A silhouette flag says more about the pair and stays; twist_unresolved
+    // qualifies a tracked posture only, and would not say why this one is lost.
+    if (!r.fit.flag || *r.fit.flag == kTwistUnresolvedFlag) r.fit.flag = std::string(kLegsUnexplainedFlag);
   }
 
   // Neither view shows the pelvis — each ends before it (an edge of the

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cvsm/legs_unexplained.hpp"
 #include "cvsm/lower_residual.hpp"
 #include "cvsm_fixtures.hpp"
 #include "spinewatch/estimator/cvsm/tracker.hpp"
@@ -310,7 +311,7 @@ TEST(CvsmLimbs, AutoIsTheFixedFitWhereTheLimbsAreStill) {
   EXPECT_GT(tracked, 20);
 }
 
-// The residual below the waist (cvsm/lower_residual.hpp) against a count
+// The residuals below the waist (cvsm/lower_residual.hpp) against a count
 // pixel by pixel, on random masks whose rows are not whole words.
 TEST(CvsmLimbs, ResidualBelowARowCountsWhatAPixelLoopCounts) {
   std::mt19937 rng(3);
@@ -325,13 +326,40 @@ TEST(CvsmLimbs, ResidualBelowARowCountsWhatAPixelLoopCounts) {
       }
     for (const int first : {-5, 0, 11, 36, 37, 50})
       for (const BitMask* h : std::array<const BitMask*, 2>{nullptr, &hidden}) {
-        std::int64_t reference = 0;
+        std::int64_t reference = 0, outside = 0;
         for (int y = std::max(0, first); y < 37; ++y)
-          for (int x = 0; x < width; ++x)
-            reference += model.get(x, y) != silhouette.get(x, y) && !(h && h->get(x, y));
+          for (int x = 0; x < width; ++x) {
+            const bool counted = !(h && h->get(x, y));
+            reference += model.get(x, y) != silhouette.get(x, y) && counted;
+            outside += silhouette.get(x, y) && !model.get(x, y) && counted;
+          }
         EXPECT_EQ(cvsm_detail::xor_below(model, silhouette, h, first), reference) << width << " from row " << first;
+        // Only the silhouette's pixels the model misses (the legs_unexplained
+        // check), not the model's the silhouette lacks.
+        EXPECT_EQ(cvsm_detail::silhouette_outside_below(model, silhouette, h, first), outside)
+            << width << " from row " << first;
+        if (first <= 0) {
+          EXPECT_LT(outside, reference);
+        }
       }
   }
+}
+
+// The legs_unexplained check (cvsm/legs_unexplained.hpp) needs all three:
+// legs outside the model, a lean over them, a fit off its baseline; any
+// one alone is ordinary (a stride followed, a side bend, raised arms).
+TEST(CvsmLimbs, LegsAreUnexplainedOnlyWithALeanAndACostRise) {
+  const cvsm_detail::LegsEvidence all{0.09, 12, 0.15};
+  EXPECT_TRUE(cvsm_detail::legs_unexplained(all));
+  cvsm_detail::LegsEvidence e = all;
+  e.outside_share = cvsm_detail::kLegsOutsideShare;
+  EXPECT_FALSE(cvsm_detail::legs_unexplained(e));
+  e = all;
+  e.lean_deg = 0.99 * cvsm_detail::kLegsLeanDeg;
+  EXPECT_FALSE(cvsm_detail::legs_unexplained(e));
+  e = all;
+  e.cost_rise = cvsm_detail::kLegsCostRise;
+  EXPECT_FALSE(cvsm_detail::legs_unexplained(e));
 }
 
 }  // namespace

@@ -28,6 +28,13 @@ inline constexpr std::string_view kFacingAwayFlag = "facing_away";
 // step aside").
 inline constexpr std::string_view kKneesBentFlag = "knees_bent";
 
+// With the legs held straight, a standing subject's silhouette shows legs
+// below the waist that the model does not draw, while the fit leans the trunk
+// sideways over them and explains the views worse than on the model's
+// building: a step or a lunge read as a side bend, so the pair is lost
+// (docs/cvsm.md, "Legs the fit leaves out").
+inline constexpr std::string_view kLegsUnexplainedFlag = "legs_unexplained";
+
 // Not a pair: a camera went away here; one lost posture marks the gap.
 inline constexpr std::string_view kCameraLostFlag = "camera_lost";
 
