@@ -107,16 +107,17 @@ int first_tracking(const std::vector<std::string>& lines) {
   return static_cast<int>(std::find(s.begin(), s.end(), "tracking") - s.begin());
 }
 
-// cvsm.provisional_frames (docs/cvsm.md, "Provisional model"): at 3 the
-// third pair with the person is tracking, fitted on the model built so
-// far; by default (10, subject_frames) nothing is tracking before the
+// cvsm.provisional_frames (docs/cvsm.md, "Provisional model"): at 3 (the
+// default) the third pair with the person is tracking, fitted on the model
+// built so far; at 10 (subject_frames) nothing is tracking before the
 // model is complete. From the pair that completes it on, both streams are
 // the same line for line: the model is built from the same pairs, and the
 // accurate spine model is built again on the complete one.
 TEST(CvsmKeys, ProvisionalFramesIsWhenTrackingStartsAndLaterPairsAreUnchanged) {
   constexpr int kEmpty = 10, kSubjectFrames = 10;  // the phantom's empty frames, cvsm.subject_frames
   const auto provisional = postures_with("[cvsm]\nprovisional_frames = 3\n");
-  const auto complete_only = postures_with("");
+  const auto complete_only = postures_with("[cvsm]\nprovisional_frames = 10\n");
+  EXPECT_EQ(postures_with(""), provisional) << "3 is the default";
   ASSERT_EQ(provisional.size(), complete_only.size());
   ASSERT_GT(provisional.size(), static_cast<std::size_t>(kEmpty + kSubjectFrames));
   EXPECT_EQ(first_tracking(provisional), kEmpty + 2);

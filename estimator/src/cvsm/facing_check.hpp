@@ -40,6 +40,9 @@ class FacingGuard {
   // The subject faces away: the sum says the mirror fits better by
   // kAwayPreferenceFraction (weighing then stops).
   bool says_away() const { return evidence_.decided() && evidence_.facing_lead_px < 0; }
+  // The sum leads for the allowed side by kHeadingMarginFraction: what an
+  // early (provisional) posture waits for.
+  bool says_allowed() const { return evidence_.decided() && evidence_.facing_lead_px > 0; }
   // The sum leans away by the margin that decides the facing side
   // (kHeadingMarginFraction) without reaching kAwayPreferenceFraction: the
   // verdict on the pair that completes the subject model.

@@ -39,7 +39,7 @@ struct CvsmConfig {
   // reads and parses the file (EstimatorOptions::cvsm_model).
   std::string model = "";
   int subject_frames = 10;           // upright frames used to build the subject's model
-  int provisional_frames = 10;       // of them, after which its fit is published as tracking (docs/cvsm.md, "Provisional model")
+  int provisional_frames = 3;        // of them, after which its fit is published as tracking (docs/cvsm.md, "Provisional model")
   double new_subject_after_s = 2;    // someone in view after an empty scene this long: a new subject model; 0 = never
   double lost_cost = 0.35;           // cost above which tracking is lost
   int refine_steps = 0;              // outline refinement of each fit: Gauss–Newton steps, 0 = off

@@ -27,9 +27,8 @@ struct CvsmOptions {
   int subject_frames = 10;       // upright frames that build the subject's model
   // From this many of them on, the pose fitted against the model built so
   // far is published as tracking while the model is still being built
-  // (docs/cvsm.md, "Provisional model"); ≥ subject_frames (the default):
-  // only once built — early postures added confidently wrong ones.
-  int provisional_frames = 10;
+  // (docs/cvsm.md, "Provisional model"); ≥ subject_frames: only once built.
+  int provisional_frames = 3;
   double lost_cost = 0.35;       // XOR / silhouette pixels above which tracking is lost
   double height_mm = 1750;       // used only when the head is cut off or the subject sits
   // The worker's stature when given (anatomy/worker.hpp): it replaces the

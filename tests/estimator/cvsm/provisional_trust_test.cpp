@@ -1,0 +1,78 @@
+// The provisional subject model at the default provisional_frames (3) on
+// measured adults (ANSUR II test set, docs/cvsm.md "Provisional model"):
+// the early postures raise the share of person frames estimated to 90 %
+// and more without one confidently wrong posture, and the checks of their
+// own hold back the early pairs that were wrong on the varied phantom.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
+#include "test_support.hpp"
+#include "trust_run.hpp"
+
+namespace spinewatch {
+namespace {
+
+phantom::PhantomOptions ansur_flexion(int id, int person_frames) {
+  phantom::PhantomOptions po;
+  po.scenario = "flexion";
+  auto subject = phantom::load_ansur_subject("ansur:" + std::to_string(id),
+                                             test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+  EXPECT_TRUE(subject.ok()) << subject.error().message;
+  if (subject.ok()) po.subject = *subject;
+  po.frames = person_frames;
+  return po;
+}
+
+// Issue 31's target: ≥ 90 % of person frames estimated. Before, nothing
+// was tracking before the 10th pair (85 % of 60, 70 % of the 30 here).
+TEST(ProvisionalModel, MeasuredAdultsBendingAreNinetyPercentTrackedWithNoWrongPosture) {
+  for (const int id : {28496, 25762, 11953}) {
+    const test::TrustRun run = test::track_for_trust(ansur_flexion(id, 30), CvsmOptions{}, "flexion " + std::to_string(id));
+    ASSERT_EQ(run.person_frames, 30);
+    EXPECT_GE(run.tracking, 27) << id;  // measured: 28, the first two pairs init
+    EXPECT_EQ(run.wrong, 0) << id << ": worst " << run.worst_mm << " mm";
+  }
+}
+
+// Turned 90° (side-on to the frontal camera) the model at the allowed
+// heading barely fits (cost 0.34, lost_cost 0.35) and is lost once
+// complete; an early pair needs kProvisionalCostRise to spare below
+// lost_cost. Without it, pairs 6–8 with the person were tracking 209 mm off.
+TEST(ProvisionalModel, NoEarlyPostureFromAFitAtTheEdgeOfLost) {
+  phantom::PhantomOptions po = ansur_flexion(28496, 9);
+  po.heading_deg = 90;
+  const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, "flexion 28496, heading 90");
+  EXPECT_EQ(run.tracking, 0) << "worst " << run.worst_mm << " mm";
+}
+
+// Carrying a box, 25762's allowed side leads its mirror by under 1 % of
+// the silhouettes over the building's pairs (kHeadingMarginFraction): the
+// views have not told the side he faces, and his model is 50 mm off from
+// its first pair. Early pairs wait for the facing check's verdict; without
+// that, pairs 2–4 with the person were tracking 50.6 mm off.
+TEST(ProvisionalModel, NoEarlyPostureBeforeTheViewsTellTheSideFaced) {
+  phantom::PhantomOptions po = ansur_flexion(25762, 9);
+  po.scenario = "carry";
+  const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, "carry 25762");
+  EXPECT_EQ(run.tracking, 0) << "worst " << run.worst_mm << " mm";
+}
+
+// In a cluttered room the subject is occluded on some pairs of the
+// building: the model is then built from the pairs between, and its early
+// postures wait for it to be complete. Without that, pairs 11–13 with the
+// person (the building's 4th–6th) were tracking 50–56 mm off.
+TEST(ProvisionalModel, NoEarlyPostureOnceTheBuildingWasInterrupted) {
+  phantom::PhantomOptions po = ansur_flexion(11953, 16);
+  po.room = phantom::RoomKind::Cluttered;
+  int provisional = 0;
+  const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, "flexion 11953, cluttered room",
+                                                   [&](const phantom::PhantomFrame&, const CvsmResult& r) { provisional += r.provisional; });
+  EXPECT_EQ(provisional, 0);
+  EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
+}
+
+}  // namespace
+}  // namespace spinewatch
