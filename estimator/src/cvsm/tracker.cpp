@@ -334,6 +334,30 @@ struct CvsmTracker::Impl {
   bool refining() const {
     return opt.refine_steps > 0 && (opt.limbs == LimbMode::Fixed || (opt.limbs == LimbMode::Auto && !arms_pass));
   }
+  // The fixed fit, refined where its outline is the model's: with auto
+  // limbs, only where it explains the views as the subject's own building
+  // pairs did (below the arms' evidence, kArmsEvidenceRise). Where raised
+  // arms or moving legs raise the cost, the refinement pulls the trunk onto
+  // the limbs' outline, and the search keeps its whole budget since the
+  // refinement may not follow. An experiment: whole varied phantom,
+  // refine_steps = 1, tracking postures over 50 mm without / with this gate
+  // and the whole budget: stride 12 → 1, lunge 33 → 31, cluttered room
+  // 0 → 3, camera tilt 45° 3 → 3 (docs/cvsm.md, "Outline refinement"; the
+  // refinement stays off by default).
+  CvsmResult settle(const BitMask& frontal, const BitMask& lateral, int candidates, std::string_view flag,
+                    bool searched_globally) {
+    if (!refining()) return finish(TrackingState::Tracking, candidates, flag);
+    if (opt.limbs == LimbMode::Auto) {
+      CvsmResult searched = finish(TrackingState::Tracking, candidates, flag);
+      if (!refine_follows(searched.fit.cost)) return searched;
+      ++candidates;  // that evaluation
+    }
+    anchored = !searched_globally;  // refined as it was searched
+    candidates += refine(frontal, lateral, opt.refine_steps);
+    anchored = true;
+    return finish(TrackingState::Tracking, candidates, flag);
+  }
+  bool refine_follows(double fixed_cost) const { return fixed_cost < best_building_cost + kArmsEvidenceRise; }
   int refine(const BitMask& frontal, const BitMask& lateral, int steps) {
     if (steps <= 0) return 0;
     cost->set_row_step(opt.refine_row_step);
@@ -944,7 +968,9 @@ struct CvsmTracker::Impl {
       // Hierarchical: the trunk with the limbs held, the limbs with the
       // trunk held, the trunk once more.
       if (opt.limbs == LimbMode::Articulated) trunk_search_model = &armless_model;
-      candidates = local_search(refining() ? opt.refined_local_budget : opt.local_budget);
+      // Cut to its coarse steps only where the refinement surely follows
+      // (fixed limbs); with auto it may not (refine_follows()).
+      candidates = local_search(refining() && opt.limbs == LimbMode::Fixed ? opt.refined_local_budget : opt.local_budget);
       candidates += follow_heading(searched_cost);
       candidates += follow_step();
       trunk_search_model = &search_model;
@@ -954,10 +980,7 @@ struct CvsmTracker::Impl {
     TwistCheck twist = check_twist_sign(candidates);
     // Refined as it was searched: after a global search, unanchored (the
     // subject may have stepped; the anchor follows below).
-    anchored = !searched_globally;
-    candidates += refine(frontal, lateral, refining() ? opt.refine_steps : 0);
-    anchored = true;
-    CvsmResult r = finish(TrackingState::Tracking, candidates, flag);
+    CvsmResult r = settle(frontal, lateral, candidates, flag, searched_globally);
     if (opt.limbs == LimbMode::Auto) try_arms(r, twist, before, searched_globally, flag, frontal, lateral);
     if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
     // A silhouette flag says more about the pair; it stays.
