@@ -261,8 +261,8 @@ TEST_F(ImportReal, ItsGeometryPublishesNoWaistNeitherViewShows) {
 // cam_0/cam_1, imported at the station's 320 × 240 with the crop the
 // varied phantom's real-room rows use (docs/accuracy.md), as the
 // photographs behind it, in the phantom's default station. In colour the
-// shirt is told from the wall behind it by its colour and every pair after
-// the subject model's nine init pairs is tracked; in grey the clothing is
+// shirt is told from the wall behind it by its colour and the fit tracks
+// from the subject model's third pair on (28 of 30); in grey the clothing is
 // as bright as the room, the silhouettes lose the trunk, and nothing is
 // published as tracking. Never a tracking posture more than 50 mm off.
 TEST_F(ImportReal, APhantomInTheRealRoomTracksInColourAndIsLostNotWrongInGrey) {
@@ -298,7 +298,7 @@ TEST_F(ImportReal, APhantomInTheRealRoomTracksInColourAndIsLostNotWrongInGrey) {
     ASSERT_EQ(replay.exit_code, 0) << replay.output;
     const Tracked tracked = tracked_against_truth(rec, out);
     EXPECT_EQ(tracked.wrong, 0) << (in_colour ? "colour" : "grey");
-    if (in_colour) EXPECT_EQ(tracked.tracking, 21) << "every pair after the nine init pairs";
+    if (in_colour) EXPECT_GE(tracked.tracking, 27) << "at least 90 % of the 30 person frames";
     else EXPECT_EQ(tracked.tracking, 0);
   }
 }
