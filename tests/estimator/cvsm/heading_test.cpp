@@ -111,8 +111,8 @@ TEST(CvsmHeading, ABoxCarriedDoesNotTurnTheSubjectRound) {
   EXPECT_EQ(wrong, 0);
 }
 
-// [cvsm] heading = "fixed": the subject is held facing the frontal camera,
-// the fit as it was without a heading.
+// [cvsm] heading = "fixed" (the default): the subject is held facing the
+// frontal camera, the fit as it was without a heading.
 TEST(CvsmHeading, TheFixedRangeHoldsTheSubjectFacingTheFrontalCamera) {
   const HeadingRun run = run_turned(30, LimbMode::Fixed, HeadingRange::Fixed);
   ASSERT_EQ(run.person_frames, 24);
