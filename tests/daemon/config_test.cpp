@@ -262,11 +262,11 @@ TEST(Config, LimbsReachTheEstimatorAutoByDefault) {
   EXPECT_EQ(bad.error().message, "s.toml:2: cvsm.limbs: \"free\" is not one of: fixed, articulated, auto");
 }
 
-// cvsm.heading reaches the estimator, "fixed" by default (its effect on the
+// cvsm.heading reaches the estimator, "front" by default (its effect on the
 // fit: tests/estimator/cvsm/heading_test.cpp, CvsmHeading.*).
-TEST(Config, HeadingReachesTheEstimatorFixedByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.heading, HeadingRange::Fixed);
-  for (const auto& [text, range] : {std::pair{"front", HeadingRange::Front}, std::pair{"any", HeadingRange::Any}}) {
+TEST(Config, HeadingReachesTheEstimatorFrontByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.heading, HeadingRange::Front);
+  for (const auto& [text, range] : {std::pair{"fixed", HeadingRange::Fixed}, std::pair{"any", HeadingRange::Any}}) {
     auto on = parse_config(std::string("[cvsm]\nheading = \"") + text + "\"\n", "s.toml");
     ASSERT_TRUE(on) << on.error().message;
     EXPECT_EQ(estimator_options(*on).cvsm.heading, range) << text;

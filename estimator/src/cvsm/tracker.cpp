@@ -773,14 +773,28 @@ struct CvsmTracker::Impl {
     built_silhouette_px = 0;
     building_interrupted = false;
     if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
-    const cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
+    // The heading is chosen on the posture the first pair's estimate starts
+    // from (standing). A seated adult facing the frontal camera drew better
+    // as a standing one turned 30° than facing it (ANSUR 27006, seated
+    // flexion: every vertebra 21.6 → 41.2 mm), and his shape was then built
+    // turned. So once the posture chosen differs, the heading is chosen
+    // again on it, and the posture again if the heading moved.
+    const SubjectPosture probed_on = subject->shape.posture;
+    cvsm_detail::HeadingChoice heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
+    int evaluations = heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    if (subject->shape.posture != probed_on) {
+      const double chosen = subject->pose.heading;
+      heading = cvsm_detail::choose_heading(*subject, *cost, spec, spine, options);
+      evaluations += heading.evaluations;
+      if (subject->pose.heading != chosen) evaluations += cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    }
     heading_resolved = heading.resolved();
     front_back = {};
     if (heading.sides_compared) {
       front_back.add(heading);
       heading_resolved = front_back.decided();
     }
-    return heading.evaluations + cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+    return evaluations;
   }
 
   // Where the range does not take the side turned away (fixed, front):

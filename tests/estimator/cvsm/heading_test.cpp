@@ -9,7 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include "spinewatch/anthropometry/ansur.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
+#include "test_support.hpp"
 #include "trust_run.hpp"
 
 namespace spinewatch {
@@ -111,8 +114,8 @@ TEST(CvsmHeading, ABoxCarriedDoesNotTurnTheSubjectRound) {
   EXPECT_EQ(wrong, 0);
 }
 
-// [cvsm] heading = "fixed" (the default): the subject is held facing the
-// frontal camera, the fit as it was without a heading.
+// [cvsm] heading = "fixed": the subject is held facing the frontal camera,
+// the fit as it was without a heading.
 TEST(CvsmHeading, TheFixedRangeHoldsTheSubjectFacingTheFrontalCamera) {
   const HeadingRun run = run_turned(30, LimbMode::Fixed, HeadingRange::Fixed);
   ASSERT_EQ(run.person_frames, 24);
@@ -147,6 +150,39 @@ TEST(CvsmHeading, TheFrontRangeKeepsASeatedWorkerBehindADeskFacingTheCamera) {
   ASSERT_GT(fitted, 12);
   EXPECT_EQ(farthest, 0.0);
   EXPECT_EQ(run.wrong, 0);
+}
+
+// A seated adult facing the frontal camera, with the front range: the
+// heading is first chosen on the standing model every first pair starts
+// from, and as a standing man ANSUR 27006 seated drew better turned 30°;
+// his shape was built turned and, over the population run, every vertebra
+// came out 41 mm off on average where the fixed range had 22 (docs/cvsm.md,
+// "Heading"). With the heading chosen again once he is seen seated, the
+// front range fits him facing the camera, as well as the fixed range does.
+// (This short render is hard for both: its waist about 50 mm off.)
+TEST(CvsmHeading, TheFrontRangeFitsASeatedAdultFacingTheCameraFacingIt) {
+  phantom::PhantomOptions po;
+  po.scenario = "seated_flexion";
+  auto subject = phantom::load_ansur_subject("ansur:27006", test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+  ASSERT_TRUE(subject.ok()) << subject.error().message;
+  po.subject = *subject;
+  po.frames = 20;
+  CvsmOptions front, fixed;
+  front.heading = HeadingRange::Front;
+  fixed.heading = HeadingRange::Fixed;
+  double farthest = 0;
+  const test::TrustRun run = test::track_for_trust(po, front, "seated flexion 27006, front range",
+                                                   [&](const phantom::PhantomFrame&, const CvsmResult& r) {
+                                                     farthest = std::max(farthest, apart_deg(r.pose.heading, 0));
+                                                   });
+  const test::TrustRun held = test::track_for_trust(po, fixed, "seated flexion 27006, fixed range");
+  ASSERT_EQ(run.person_frames, 20);
+  EXPECT_GE(run.tracking, held.tracking - 2);
+  // Measured: 0° (before, 30° from the first pair on).
+  EXPECT_LE(farthest, 10.0);
+  // Measured: 21.1 / 52.7 mm against 19.2 / 51.4 held facing.
+  EXPECT_LE(run.neck_mean(), held.neck_mean() + 5);
+  EXPECT_LE(run.waist_mean(), held.waist_mean() + 5);
 }
 
 // A range that does not take the side turned away ("fixed", the default,

@@ -41,8 +41,8 @@ TEST(ProvisionalModel, MeasuredAdultsBendingAreNinetyPercentTrackedWithNoWrongPo
 // it ([cvsm] heading = "fixed"), the model barely fits (cost 0.34,
 // lost_cost 0.35) and is lost once complete; an early pair needs
 // kProvisionalCostRise to spare below lost_cost. Without it, pairs 6–8
-// with the person were tracking 209 mm off. (With "front" the fit turns
-// with him: 7 of 9 tracking, the worst vertebra 19 mm off.)
+// with the person were tracking 209 mm off. (With the default "front" the
+// fit turns with him: 7 of 9 tracking, the worst vertebra 19 mm off.)
 TEST(ProvisionalModel, NoEarlyPostureFromAFitAtTheEdgeOfLost) {
   phantom::PhantomOptions po = ansur_flexion(28496, 9);
   po.heading_deg = 90;

@@ -44,7 +44,7 @@ struct CvsmConfig {
   double lost_cost = 0.35;           // cost above which tracking is lost
   int refine_steps = 0;              // outline refinement of each fit: Gauss–Newton steps, 0 = off
   LimbMode limbs = LimbMode::Auto;   // "auto", "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs", "Arms where the views show them")
-  HeadingRange heading = HeadingRange::Fixed;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
+  HeadingRange heading = HeadingRange::Front;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
   bool operator==(const CvsmConfig&) const = default;
   static const OptionTable<CvsmConfig>& keys();
 };

@@ -70,7 +70,7 @@ struct CvsmOptions {
   int refine_steps = 0;
   int refine_row_step = 2;
   LimbMode limbs = LimbMode::Auto;  // config [cvsm] limbs
-  HeadingRange heading = HeadingRange::Fixed;  // config [cvsm] heading
+  HeadingRange heading = HeadingRange::Front;  // config [cvsm] heading
   // Tuning, articulated limbs (and auto's arms): evaluations of the limbs' search per
   // tracked pair (the trunk held), then of the trunk's search again with
   // the limbs held (the joint refinement; 0: none).
