@@ -28,7 +28,7 @@ struct LegsEvidence {
 // Each bound is one the fit already uses for the same question, not one fitted
 // to the phantom's table:
 // - the arms' pass refuses a result leaving more than this share unexplained
-//   below the waist (tracker.cpp, kArmsLowerResidualMax): above it the legs
+//   below the waist (tracker_limbs.cpp, kArmsLowerResidualMax): above it the legs
 //   moved;
 inline constexpr double kLegsOutsideShare = 0.06;
 // - the step search runs on a side bend of this much (kStepSideBendDeg): a step

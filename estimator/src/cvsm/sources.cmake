@@ -16,7 +16,16 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/facing_check.cpp
   ${CMAKE_CURRENT_LIST_DIR}/upright_view.cpp
   ${CMAKE_CURRENT_LIST_DIR}/template_fit.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/search_params.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/armless_model.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_building.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_search.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_limbs.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_refine.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_heading.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_legs.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tracker_hidden.cpp)
 # The generic model, built into the library (like config/spine-generic.toml).
 embed_text(${CMAKE_CURRENT_BINARY_DIR}/embedded/cvsm_generic.cpp
   ${SPINEWATCH_SOURCE_DIR}/config/cvsm-generic.toml generic_cvsm_toml)

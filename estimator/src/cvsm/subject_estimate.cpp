@@ -329,6 +329,14 @@ bool check_given_stature(SubjectEstimate& s) {
   return true;
 }
 
+CvsmOptions without_given_body(CvsmOptions o) {
+  o.stature_mm.reset();
+  o.c7_height_mm.reset();
+  o.iliac_crest_height_mm.reset();
+  o.mass_kg.reset();
+  return o;
+}
+
 int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
   std::vector<Eigen::Vector3d> points;
   SubjectEstimate trial = s;

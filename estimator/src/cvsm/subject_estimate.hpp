@@ -54,6 +54,9 @@ int choose_posture(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec
 // than the given stature may be bending: that one stands, as it does
 // seated, where the crown does not measure the stature.
 bool check_given_stature(SubjectEstimate& subject);
+// The options without the worker's given body (stature, landmarks, mass):
+// for a subject whose given stature the views contradicted.
+CvsmOptions without_given_body(CvsmOptions o);
 // One round of the shape fit on the current silhouettes; returns evaluations.
 int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    int budget = 160);

@@ -1,0 +1,62 @@
+// What the views do not show (tracker_impl.hpp): an occluder in front of
+// the lower body, left out of the cost, and a pelvis that neither view
+// shows, withheld from tracking (docs/cvsm.md, "Occluded lower body",
+// "Pelvis out of the picture").
+#include "cvsm/occluder_edge.hpp"
+#include "cvsm/pelvis_in_view.hpp"
+#include "cvsm/tracker_impl.hpp"
+#include "spinewatch/estimator/fit_flags.hpp"
+
+namespace spinewatch {
+
+void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& lateral) {
+  // The floor under the person: under the waist once a model exists,
+  // else under the point the station looks at.
+  Eigen::Vector3d under = Eigen::Vector3d::Zero();
+  if (init_frames > 0) {
+    const Eigen::Vector3d waist = pose_vertebrae(model, spine, pose)[kWaistIndex].body_center;
+    under = {waist.x(), 0, waist.z()};
+  }
+  const BitMask* masks[2] = {&frontal, &lateral};
+  const CameraModel* cams[2] = {&rig.frontal, &rig.lateral};
+  for (std::size_t v = 0; v < 2; ++v) {
+    hiding[v] = false;
+    const std::optional<Eigen::Vector2d> floor = cams[v]->project(under);
+    if (!floor) continue;
+    if (const auto edge = cvsm_detail::find_occluder_edge(*masks[v], floor->y())) {
+      cvsm_detail::hidden_below(*edge, *masks[v], hidden[v]);
+      hiding[v] = true;
+    }
+  }
+  cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+}
+
+// An occluder hides the lower body in both views: no view sees the
+// legs or the pelvis's lower outline, so the waist rests on the model's
+// guess of them (docs/cvsm.md, "Occluded lower body"). Not published
+// as tracking; the fit goes on from this pose.
+void CvsmTracker::Impl::withhold_hidden_lower_body(CvsmResult& r) const {
+  if (r.state == TrackingState::Tracking && hiding[0] && hiding[1]) {
+    r.state = TrackingState::Lost;
+    if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+  }
+}
+
+// Neither view shows the pelvis — each ends before it (an edge of the
+// image, docs/cvsm.md, "Pelvis out of the picture") or an occluder hides
+// it: the waist rests on the model's proportions, not on the views. Not
+// published as tracking, as with the occluder alone above.
+void CvsmTracker::Impl::withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const {
+  if (r.state != TrackingState::Tracking || pelvis_seen(frontal, lateral, r)) return;
+  r.state = TrackingState::Lost;
+  if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
+}
+
+// Whether one view at least shows the pelvis (neither an occluder nor the
+// image's edge hides it there): a provisional posture needs it too.
+bool CvsmTracker::Impl::pelvis_seen(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const {
+  if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return true;
+  return !hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae);
+}
+
+}  // namespace spinewatch
