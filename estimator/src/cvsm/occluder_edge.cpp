@@ -41,7 +41,7 @@ LowerOutline lower_outline(const BitMask& s) {
 // than kEdgeOutlierShare of them are (a curve, not an edge: a pixel of
 // noise or a fold of the shirt on the edge is allowed) or it is too steep.
 std::optional<OccluderEdge> straight(const std::vector<int>& bottom, int x0, int x1) {
-  OccluderEdge e{x0, x1, 0, 0};
+  OccluderEdge e{x0, x1, 0, 0, x0, x1};
   auto fit = [&](bool inliers_only) {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (int x = x0; x <= x1; ++x) {
@@ -85,11 +85,28 @@ std::optional<OccluderEdge> straightest(const std::vector<int>& bottom, int x0, 
   return std::nullopt;
 }
 
-// The columns an edge hides: its own and a quarter of its width beyond
-// each end (an occluder is wider than the part of the person it cuts).
-std::pair<int, int> hidden_columns(const OccluderEdge& e, int width) {
+// The columns an edge hides: the span's and a quarter of the straight
+// run's width beyond each end (an occluder is wider than the part of the
+// person it cuts).
+std::pair<int, int> hidden_columns(const OccluderEdge& e, int width, HiddenSpan span = HiddenSpan::Run) {
   const int pad = (e.x1 - e.x0 + 1) / 4;
-  return {std::max(0, e.x0 - pad), std::min(width - 1, e.x1 + pad)};
+  const bool cut = span == HiddenSpan::Cut;
+  return {std::max(0, (cut ? e.cut_x0 : e.x0) - pad), std::min(width - 1, (cut ? e.cut_x1 : e.x1) + pad)};
+}
+
+// From the run outwards along the edge's line, the outermost column (on
+// the side `step` walks) whose lowest pixel lies on the line within
+// kEdgeBelowPx; the walk stops at a column whose silhouette reaches
+// farther below it (an arm hanging past the desk's edge: not cut there).
+int last_cut_column(const std::vector<int>& bottom, const OccluderEdge& e, int from, int step) {
+  int cut = from;
+  for (int x = from + step; x >= 0 && x < static_cast<int>(bottom.size()); x += step) {
+    const int b = bottom[static_cast<std::size_t>(x)];
+    if (b < 0) continue;
+    if (b > e.row(x) + kEdgeBelowPx) break;
+    if (b >= e.row(x) - kEdgeBelowPx) cut = x;
+  }
+  return cut;
 }
 
 // Whether the person ends at the edge: no silhouette more than
@@ -147,15 +164,17 @@ std::optional<OccluderEdge> find_occluder_edge(const BitMask& silhouette, double
   const double edge_row = best->row((best->x0 + best->x1) / 2);
   const double person_rows = floor_row - o.top;
   if (person_rows <= 0 || floor_row - edge_row <= kEdgeAboveFloorShare * person_rows) return std::nullopt;
+  best->cut_x0 = last_cut_column(o.bottom, *best, best->x0, -1);
+  best->cut_x1 = last_cut_column(o.bottom, *best, best->x1, +1);
   return best;
 }
 
-void hidden_below(const OccluderEdge& edge, const BitMask& silhouette, BitMask& out) {
+void hidden_below(const OccluderEdge& edge, const BitMask& silhouette, BitMask& out, HiddenSpan span) {
   if (out.width() != silhouette.width() || out.height() != silhouette.height())
     out = BitMask(silhouette.width(), silhouette.height());
   else
     out.clear();
-  const auto [lo, hi] = hidden_columns(edge, silhouette.width());
+  const auto [lo, hi] = hidden_columns(edge, silhouette.width(), span);
   for (int x = lo; x <= hi; ++x) {
     const int from = std::max(0, static_cast<int>(std::floor(edge.row(x))) + 1);
     for (int y = from; y < silhouette.height(); ++y)

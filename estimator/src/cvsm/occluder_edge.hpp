@@ -16,6 +16,12 @@ namespace spinewatch::cvsm_detail {
 struct OccluderEdge {
   int x0 = 0, x1 = 0;             // columns the straight lower outline spans
   double row_at_x0 = 0, slope = 0;  // the edge's row at x0, rows per column
+  // The outermost columns on each side where the silhouette still ends on
+  // the edge's line (x0 and x1 when nowhere beyond them): the occluder's
+  // edge is one straight line, and it cuts whatever of the person ends on
+  // it, beside the trunk too (forearms resting on the desk, past a gap of
+  // background under the armpit that breaks the straight run).
+  int cut_x0 = 0, cut_x1 = 0;
   double row(int x) const { return row_at_x0 + slope * (x - x0); }
 };
 
@@ -29,13 +35,25 @@ struct OccluderEdge {
 // and lies above `floor_row` (the row where the floor
 // under the person projects) by more than kEdgeAboveFloorShare of the
 // person's height in the image. Nothing otherwise: feet on the floor, a
-// body ending on its own rounded outline.
+// body ending on its own rounded outline. cut_x0/cut_x1 are widened from
+// the run along the line to the outermost columns whose lowest pixel lies
+// within kEdgeBelowPx of it, never across a column whose silhouette
+// reaches farther below it (something the occluder does not hide).
 std::optional<OccluderEdge> find_occluder_edge(const BitMask& silhouette, double floor_row);
 
-// The pixels the occluder hides: below the edge, on its columns and a
-// quarter of its width beyond each end, that are not silhouette. `out` is
-// resized to the silhouette's size.
-void hidden_below(const OccluderEdge& edge, const BitMask& silhouette, BitMask& out);
+// Which columns hidden_below() takes: the straight run's (x0 … x1), or
+// all those the edge cuts the person on (cut_x0 … cut_x1).
+enum class HiddenSpan { Run, Cut };
+
+// The pixels the occluder hides: below the edge's line, on the span's
+// columns and a quarter of the straight run's width beyond each end, that
+// are not silhouette. `out` is resized to the silhouette's size. The fit
+// hides the run's span: where the arms end on the edge (hands reaching to
+// a bench, `reach`) their ends place the arms, and with the cut span
+// hidden while tracking, ANSUR 28496 reaching to the bench had 4 postures
+// 50–55 mm off (docs/cvsm.md, "Occluded lower body"). The standing-or-
+// seated choice hides the cut span (cvsm/posture_hidden.hpp).
+void hidden_below(const OccluderEdge& edge, const BitMask& silhouette, BitMask& out, HiddenSpan span = HiddenSpan::Run);
 
 inline constexpr double kEdgeResidualPx = 1.5;
 inline constexpr double kEdgeOutlierShare = 0.1;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cvsm/coordinate_search.hpp"
+#include "cvsm/posture_hidden.hpp"
 #include "cvsm/upright_view.hpp"
 #include "spinewatch/estimator/anatomy/spine_depth.hpp"
 #include "spinewatch/estimator/anatomy/spine_placement.hpp"
@@ -259,6 +260,10 @@ std::vector<double> seated_heights() {
 int choose_posture(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    const CvsmOptions& options) {
   if (options.posture) return 0;
+  // With the lower body hidden, the two models are compared on what the
+  // occluder leaves in view: all it cuts is hidden (posture_hidden.hpp).
+  std::optional<CutSpanHidden> cut_hidden;
+  if (s.lower_body_hidden) cut_hidden.emplace(cost);
   std::vector<Eigen::Vector3d> points;
   int n = refine_subject(s, cost, spec, spine, 60);
   std::int64_t best = subject_cost(s, cost, spec, spine, points, INT64_MAX);

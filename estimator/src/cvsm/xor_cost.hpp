@@ -77,6 +77,9 @@ class XorCost {
   // silhouette pixel; the model's pixels there cost nothing. Kept by
   // pointer until set again.
   void set_hidden(const BitMask* frontal, const BitMask* lateral) { hidden_ = {frontal, lateral}; }
+  const BitMask* hidden(View view) const { return hidden_[index_of(view)]; }
+  // The silhouettes last set (nullptr before).
+  const BitMask* silhouette(View view) const { return silhouettes_[index_of(view)]; }
   // Count only every `step`-th row (1: all; rounded down to a power of
   // two). A coarse search compares candidates on a row sample at a
   // fraction of the cost; counts are then in sampled pixels (silhouette_px

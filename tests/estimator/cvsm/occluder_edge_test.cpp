@@ -106,6 +106,41 @@ TEST(OccluderEdge, HidesBelowTheEdgeAndBesideItButNotTheSilhouette) {
     for (int w = 0; w < m.words_per_row(); ++w) EXPECT_EQ(m.row(y)[w] & hidden.row(y)[w], 0U);
 }
 
+// Forearms resting on the desk beside the trunk, past a gap of background
+// under each armpit, and a hand farther out: the straight run is the
+// trunk's, but the edge's line cuts the others too, and the cut span
+// reaches them.
+TEST(OccluderEdge, TheCutSpanReachesForearmsEndingOnTheEdgeBesideTheTrunk) {
+  BitMask m = cut_trunk(150);
+  for (int y = 80; y <= 140; ++y) {  // the gaps under the armpits, columns 116–119 and 201–204
+    m.set_span(y, 116, 119);
+    m.set_span(y, 201, 204);
+  }
+  for (int y = 90; y <= 151; ++y) {  // forearms ending on the edge (a row lower: hands on the desk)
+    m.set_span(y, 100, 115);
+    m.set_span(y, 205, 220);
+  }
+  for (int y = 120; y <= 150; ++y) m.set_span(y, 230, 235);  // a hand farther out
+  const auto e = find_occluder_edge(m, 230);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->x0, 120);
+  EXPECT_EQ(e->x1, 200);
+  EXPECT_EQ(e->cut_x0, 100);
+  EXPECT_EQ(e->cut_x1, 235);
+  BitMask run, cut;
+  hidden_below(*e, m, run);
+  hidden_below(*e, m, cut, cvsm_detail::HiddenSpan::Cut);
+  // The run's span: 120 − 20 … 200 + 20 (a quarter of its 81 columns).
+  EXPECT_TRUE(run.get(220, 200));
+  EXPECT_FALSE(run.get(221, 200));
+  // The cut span: 100 − 20 … 235 + 20.
+  EXPECT_TRUE(cut.get(80, 200));
+  EXPECT_FALSE(cut.get(79, 200));
+  EXPECT_TRUE(cut.get(255, 200));
+  EXPECT_FALSE(cut.get(256, 200));
+  EXPECT_FALSE(cut.get(110, 151));  // the forearm's own pixel stays the person's
+}
+
 // The hidden pixels' count against its reference: every pixel of the
 // model's render and the silhouette compared one by one, the hidden ones
 // skipped; on every row and on a row sample, with and without pruning.
