@@ -15,12 +15,18 @@
 
 namespace spinewatch::cvsm_detail {
 
-// The subject at its heading (one the range allows) against its mirror
-// (turned 180° in place), each from the same start refined
-// kMirrorRefineRounds rounds of the shape fit, compared on the converged
-// costs: `facing_lead_px` is the mirror's cost minus the allowed side's
-// (positive: the allowed side fits better), `facing_heading` the allowed
-// heading, `away_heading` the mirror's. `s` is not changed.
+// The subject at its heading h (one the range allows) against the side
+// turned away: the heading whose frontal view is the same (180° − h, the
+// frontal camera cannot tell them apart; the lateral one can), each side as
+// three headings 30° apart around its own (those the side holds), all
+// refined kMirrorRefineRounds rounds of the shape fit from the same start
+// and the best of each side compared on the converged costs:
+// `facing_lead_px` is the side turned away's cost minus the allowed side's
+// (positive: the allowed side fits better), `facing_heading` and
+// `away_heading` the best heading of each. Weighed against h + 180° alone, a
+// subject turned 120–150° whom the fit faced 60–30° towards the camera was
+// compared with a heading neither view confuses with his, and was tracked
+// as his reflection. `s` is not changed.
 HeadingChoice weigh_against_mirror(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec,
                                    const SpineSpec& spine);
 
