@@ -27,9 +27,13 @@ TEST(LandmarksArmnn, RefusesABackendThatIsNotThere) {
 }
 
 // caliscope's charuco_calibration, cam_2, frame 20: the man faces the
-// camera, his head within x 700–870, y 200–420 of the 1280×720 frame, his
-// chest at (760, 520), the white door on the left at (150, 300) (read off
-// the frame by eye). The crop is a square about his hips, as MediaPipe's
+// camera, his head within x 700–870, y 200–420 of the 1280×720 frame (its
+// top at y 210), his chest at (760, 520), his belly at (780, 700), his left
+// forearm at (990, 650), the white door on the left at (150, 300), the
+// doorway above-left of his head at (700, 230) and the wall above it at
+// (760, 180) (read off the frame by eye). Without the resizes' half-pixel
+// sampling (tflite_resize.hpp) the mask lay up and left of him: it held the
+// doorway and the wall above his head and missed his belly and forearm. The crop is a square about his hips, as MediaPipe's
 // pose graph makes it (the body's extent × 1.25 about the hips; chosen by
 // hand here, the detector does not run under Arm NN 20.08).
 TEST(LandmarksArmnn, LandsOnTheManInARealFrame) {
@@ -50,5 +54,9 @@ TEST(LandmarksArmnn, LandsOnTheManInARealFrame) {
   EXPECT_TRUE(cv::Rect2f(700, 200, 170, 220).contains(nose)) << nose;
   const cv::Mat mask = lm::mask_to_frame(out.mask, lm::kInputSide, crop, frame.size(), 0.5f);
   EXPECT_EQ(mask.at<std::uint8_t>(520, 760), 255) << "chest";
+  EXPECT_EQ(mask.at<std::uint8_t>(700, 780), 255) << "belly";
+  EXPECT_EQ(mask.at<std::uint8_t>(650, 990), 255) << "forearm";
   EXPECT_EQ(mask.at<std::uint8_t>(300, 150), 0) << "door";
+  EXPECT_EQ(mask.at<std::uint8_t>(230, 700), 0) << "doorway beside his head";
+  EXPECT_EQ(mask.at<std::uint8_t>(180, 760), 0) << "wall above his head";
 }

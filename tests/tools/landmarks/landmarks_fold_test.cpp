@@ -12,6 +12,7 @@
 
 #include "spinewatch/landmarks/model_dir.hpp"
 #include "spinewatch/landmarks/tflite_fold.hpp"
+#include "spinewatch/landmarks/tflite_resize.hpp"
 
 namespace lm = spinewatch::landmarks;
 
@@ -54,4 +55,15 @@ TEST(LandmarksFold, FoldsTheShippedModelOnce) {
   const lm::FoldReport second = lm::fold_float16_weights(model);
   EXPECT_EQ(second.dequantize_folded, 0u);
   EXPECT_EQ(second.operators_left, first.operators_left);
+
+  // The segmentation head's upsamplings ask for half-pixel sampling, before
+  // the fold and after it (the fold keeps them, at their new indices).
+  const auto resizes = lm::half_pixel_resizes(model);
+  EXPECT_FALSE(resizes.empty());
+  EXPECT_LT(*resizes.rbegin(), first.operators_left);
+}
+
+TEST(LandmarksFold, HalfPixelResizesRefusesATruncatedModel) {
+  std::vector<std::uint8_t> truncated{0xff, 0xff, 0, 0, 'T', 'F', 'L', '3'};
+  EXPECT_THROW(lm::half_pixel_resizes(truncated), lm::ModelFormatError);
 }

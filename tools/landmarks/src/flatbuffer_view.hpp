@@ -36,6 +36,12 @@ class FlatbufferView {
     return at == 0 ? fallback : read<T>(at);
   }
 
+  // The table a field points at, 0 when the field is absent.
+  std::uint32_t field_table(std::uint32_t table, int slot) const {
+    const std::uint32_t at = field_position(table, slot);
+    return at == 0 ? 0 : follow(at);
+  }
+
   // The vector a field points at; empty when the field is absent.
   Vector field_vector(std::uint32_t table, int slot) const {
     const std::uint32_t at = field_position(table, slot);

@@ -45,8 +45,8 @@ int probe(const std::vector<std::string>& models, const std::vector<std::string>
     try {
       const lm::PoseLandmarker landmarker(model, backends);
       const auto& d = landmarker.description();
-      std::printf("  folded %zu float16 DEQUANTIZE operators, %zu operators left; optimised for", d.dequantize_folded,
-                  d.operators);
+      std::printf("  folded %zu float16 DEQUANTIZE operators, %zu operators left, %zu resizes given back half-pixel "
+                  "sampling; optimised for", d.dequantize_folded, d.operators, d.half_pixel_resizes);
       for (const auto& b : backends) std::printf(" %s", b.c_str());
       std::printf(" (registered:");
       for (const auto& b : d.backends_available) std::printf(" %s", b.c_str());

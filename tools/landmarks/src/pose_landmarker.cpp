@@ -5,11 +5,14 @@
 
 #include <algorithm>
 #include <fstream>
+#include <set>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
 
+#include "network_copy.hpp"
 #include "spinewatch/landmarks/tflite_fold.hpp"
+#include "spinewatch/landmarks/tflite_resize.hpp"
 
 namespace spinewatch::landmarks {
 namespace {
@@ -59,7 +62,10 @@ PoseLandmarker::PoseLandmarker(const std::string& model_path, const std::vector<
   impl_->description.operators = fold.operators_left;
 
   auto parser = armnnTfLiteParser::ITfLiteParser::Create();
-  armnn::INetworkPtr network = parser->CreateNetworkFromBinary(bytes);  // throws armnn::Exception
+  const armnn::INetworkPtr parsed = parser->CreateNetworkFromBinary(bytes);  // throws armnn::Exception
+  const std::set<std::size_t> half_pixel = half_pixel_resizes(bytes);
+  impl_->description.half_pixel_resizes = half_pixel.size();
+  const armnn::INetworkPtr network = copy_with_half_pixel_resizes(*parsed, half_pixel);
   const auto input_names = parser->GetSubgraphInputTensorNames(0);
   if (input_names.size() != 1) throw std::runtime_error(model_path + ": expected one input");
   impl_->input = parser->GetNetworkInputBindingInfo(0, input_names[0]);

@@ -7,39 +7,17 @@
 #include <string>
 
 #include "flatbuffer_view.hpp"
+#include "tflite_schema.hpp"
 
 namespace spinewatch::landmarks {
 namespace {
 
-// TFLite schema (tensorflow/lite/schema/schema.fbs) field slots and enum
-// values used here.
-namespace field {
-constexpr int kModelOperatorCodes = 1, kModelSubgraphs = 2, kModelBuffers = 4;
-constexpr int kCodeDeprecatedBuiltin = 0, kCodeBuiltin = 3;
-constexpr int kSubgraphTensors = 0, kSubgraphOutputs = 2, kSubgraphOperators = 3;
-constexpr int kTensorShape = 0, kTensorType = 1, kTensorBuffer = 2;
-constexpr int kOperatorOpcode = 0, kOperatorInputs = 1, kOperatorOutputs = 2;
-constexpr int kBufferData = 0;
-}  // namespace field
-constexpr std::int32_t kDequantize = 6;
-constexpr std::uint8_t kFloat32 = 0, kFloat16 = 1;
-
-std::vector<bool> dequantize_codes(const FlatbufferView& fb, std::uint32_t model) {
-  std::vector<bool> is_dequantize;
-  const auto codes = fb.field_vector(model, field::kModelOperatorCodes);
-  for (std::uint32_t i = 0; i < codes.size; ++i) {
-    const std::uint32_t code = fb.vector_table(codes, i);
-    // Newer files keep the code in the int32 field, older ones in the int8.
-    const std::int32_t builtin = std::max<std::int32_t>(
-        static_cast<std::int8_t>(fb.field_scalar<std::uint8_t>(code, field::kCodeDeprecatedBuiltin, 0)),
-        fb.field_scalar<std::int32_t>(code, field::kCodeBuiltin, 0));
-    is_dequantize.push_back(builtin == kDequantize);
-  }
-  return is_dequantize;
-}
+using schema::kDequantize;
+using schema::kFloat16;
+using schema::kFloat32;
 
 std::size_t element_count(const FlatbufferView& fb, std::uint32_t tensor) {
-  const auto shape = fb.field_vector(tensor, field::kTensorShape);
+  const auto shape = fb.field_vector(tensor, schema::kTensorShape);
   std::size_t n = 1;
   for (std::uint32_t i = 0; i < shape.size; ++i) n *= static_cast<std::size_t>(fb.vector_scalar<std::int32_t>(shape, i));
   return n;
@@ -65,7 +43,7 @@ class SubgraphFolder {
 
   void fold(FoldReport& report) {
     const FlatbufferView fb(bytes_);
-    const auto operators = fb.field_vector(subgraph_, field::kSubgraphOperators);
+    const auto operators = fb.field_vector(subgraph_, schema::kSubgraphOperators);
     std::vector<bool> remove(operators.size, false);
     for (std::uint32_t i = 0; i < operators.size; ++i) {
       remove[i] = try_fold(fb.vector_table(operators, i), report);
@@ -78,19 +56,19 @@ class SubgraphFolder {
   // Folds one operator if it is a DEQUANTIZE of a FLOAT16 constant.
   bool try_fold(std::uint32_t op, FoldReport& report) {
     FlatbufferView fb(bytes_);
-    const auto opcode = fb.field_scalar<std::uint32_t>(op, field::kOperatorOpcode, 0);
+    const auto opcode = fb.field_scalar<std::uint32_t>(op, schema::kOperatorOpcode, 0);
     if (opcode >= is_dequantize_.size() || !is_dequantize_[opcode]) return false;
-    const auto inputs = fb.field_vector(op, field::kOperatorInputs);
-    const auto outputs = fb.field_vector(op, field::kOperatorOutputs);
+    const auto inputs = fb.field_vector(op, schema::kOperatorInputs);
+    const auto outputs = fb.field_vector(op, schema::kOperatorOutputs);
     if (inputs.size != 1 || outputs.size != 1) return false;
-    const auto tensors = fb.field_vector(subgraph_, field::kSubgraphTensors);
+    const auto tensors = fb.field_vector(subgraph_, schema::kSubgraphTensors);
     const auto in_index = fb.vector_scalar<std::int32_t>(inputs, 0);
     const std::uint32_t in = fb.vector_table(tensors, static_cast<std::uint32_t>(in_index));
-    if (fb.field_scalar<std::uint8_t>(in, field::kTensorType, kFloat32) != kFloat16) return false;
-    const auto buffer_index = fb.field_scalar<std::uint32_t>(in, field::kTensorBuffer, 0);
-    const auto buffers = fb.field_vector(model_, field::kModelBuffers);
+    if (fb.field_scalar<std::uint8_t>(in, schema::kTensorType, kFloat32) != kFloat16) return false;
+    const auto buffer_index = fb.field_scalar<std::uint32_t>(in, schema::kTensorBuffer, 0);
+    const auto buffers = fb.field_vector(model_, schema::kModelBuffers);
     const std::uint32_t buffer = fb.vector_table(buffers, buffer_index);
-    const auto data = fb.field_vector(buffer, field::kBufferData);
+    const auto data = fb.field_vector(buffer, schema::kBufferData);
     const std::size_t n = element_count(fb, in);
     if (data.size != n * 2) return false;  // not a constant, or not all of it
 
@@ -100,8 +78,8 @@ class SubgraphFolder {
       std::memcpy(&h, bytes_.data() + data.first + 2 * k, 2);
       values[k] = half_to_float(h);
     }
-    const std::uint32_t data_slot = fb.field_position(buffer, field::kBufferData);
-    const std::uint32_t type_slot = fb.field_position(in, field::kTensorType);
+    const std::uint32_t data_slot = fb.field_position(buffer, schema::kBufferData);
+    const std::uint32_t type_slot = fb.field_position(in, schema::kTensorType);
     const std::uint32_t vector_at = append_float32_vector(bytes_, values);  // invalidates `fb`
     write_u32(data_slot, vector_at - data_slot);
     bytes_[type_slot] = kFloat32;
@@ -115,11 +93,11 @@ class SubgraphFolder {
   // where they read the DEQUANTIZE's output.
   void rewire_inputs() {
     const FlatbufferView fb(bytes_);
-    const auto operators = fb.field_vector(subgraph_, field::kSubgraphOperators);
+    const auto operators = fb.field_vector(subgraph_, schema::kSubgraphOperators);
     for (std::uint32_t i = 0; i < operators.size; ++i) {
-      rewire(fb.field_vector(fb.vector_table(operators, i), field::kOperatorInputs));
+      rewire(fb.field_vector(fb.vector_table(operators, i), schema::kOperatorInputs));
     }
-    rewire(fb.field_vector(subgraph_, field::kSubgraphOutputs));
+    rewire(fb.field_vector(subgraph_, schema::kSubgraphOutputs));
   }
 
   void rewire(const FlatbufferView::Vector& indices) {
@@ -135,7 +113,7 @@ class SubgraphFolder {
   // moved (offsets are relative to their own slot), and the length shrinks.
   std::size_t compact_operators(const std::vector<bool>& remove) {
     const FlatbufferView fb(bytes_);
-    const auto operators = fb.field_vector(subgraph_, field::kSubgraphOperators);
+    const auto operators = fb.field_vector(subgraph_, schema::kSubgraphOperators);
     std::uint32_t kept = 0;
     for (std::uint32_t i = 0; i < operators.size; ++i) {
       if (remove[i]) continue;
@@ -186,8 +164,9 @@ FoldReport fold_float16_weights(std::vector<std::uint8_t>& model) {
     throw ModelFormatError("not a TFLite model (no TFL3 identifier)");
   }
   const std::uint32_t root = fb.root();
-  const auto is_dequantize = dequantize_codes(fb, root);
-  const auto subgraphs = fb.field_vector(root, field::kModelSubgraphs);
+  std::vector<bool> is_dequantize;
+  for (const std::int32_t code : builtin_codes(fb, root)) is_dequantize.push_back(code == kDequantize);
+  const auto subgraphs = fb.field_vector(root, schema::kModelSubgraphs);
   FoldReport report;
   for (std::uint32_t s = 0; s < subgraphs.size; ++s) {
     const std::uint32_t subgraph = FlatbufferView(model).vector_table(subgraphs, s);

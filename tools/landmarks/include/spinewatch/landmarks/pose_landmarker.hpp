@@ -39,13 +39,15 @@ struct TensorDescription {
 struct ModelDescription {
   std::size_t dequantize_folded = 0;
   std::size_t operators = 0;
+  std::size_t half_pixel_resizes = 0;  // Resize layers given back their half-pixel sampling
   std::vector<TensorDescription> inputs, outputs;
   std::vector<std::string> backends_available;  // registered with Arm NN on this machine
 };
 
 class PoseLandmarker {
  public:
-  // Loads, folds (tflite_fold.hpp), parses and optimises the model for
+  // Loads, folds (tflite_fold.hpp), parses, restores the resizes' half-pixel
+  // sampling (tflite_resize.hpp) and optimises the model for
   // `backends` in preference order; throws std::runtime_error with Arm NN's
   // message when any step fails.
   PoseLandmarker(const std::string& model_path, const std::vector<std::string>& backends);
