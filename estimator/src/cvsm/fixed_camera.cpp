@@ -1,5 +1,6 @@
 #include "cvsm/fixed_camera.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace spinewatch {
@@ -20,8 +21,9 @@ bool FixedCamera::project(const Eigen::Vector3d& world, PixelQ8& out) const {
   if (distorted_) {
     const auto p = camera_.project(world);
     if (!p) return false;
-    out.u = static_cast<std::int32_t>(std::lround(p->x() * 256));
-    out.v = static_cast<std::int32_t>(std::lround(p->y() * 256));
+    const double limit = kQ8Limit;
+    out.u = static_cast<std::int32_t>(std::lround(std::clamp(p->x() * 256, -limit, limit)));
+    out.v = static_cast<std::int32_t>(std::lround(std::clamp(p->y() * 256, -limit, limit)));
     return true;
   }
   // Round to nearest (std::llround is a library call; this is the hot loop).
@@ -30,8 +32,8 @@ bool FixedCamera::project(const Eigen::Vector3d& world, PixelQ8& out) const {
   std::int64_t c[3];
   for (int i = 0; i < 3; ++i) c[i] = r_[i][0] * x + r_[i][1] * y + r_[i][2] * z + t_[i];  // Q24
   if (c[2] < (std::int64_t{1} << 24)) return false;
-  out.u = static_cast<std::int32_t>(cx_ + fx_ * c[0] / c[2]);
-  out.v = static_cast<std::int32_t>(cy_ + fy_ * c[1] / c[2]);
+  out.u = static_cast<std::int32_t>(std::clamp<std::int64_t>(cx_ + fx_ * c[0] / c[2], -kQ8Limit, kQ8Limit));
+  out.v = static_cast<std::int32_t>(std::clamp<std::int64_t>(cy_ + fy_ * c[1] / c[2], -kQ8Limit, kQ8Limit));
   return true;
 }
 

@@ -22,6 +22,14 @@
 
 namespace spinewatch {
 
+// |Q8| coordinates are clamped to this, ±1024 px: far outside any image (a
+// point just in front of a camera, or where a lens's distortion polynomial
+// runs away outside its field, projects anywhere), and within the range
+// where a ring's packed keys stay exact (segment_scan.hpp). Beyond it a
+// key's point index was lost and the scan read past the ring's points
+// (a real camera's distortion, caliscope's cam_2, ASan).
+inline constexpr std::int32_t kQ8Limit = 1024 * 256;
+
 struct PixelQ8 {
   std::int32_t u = 0, v = 0;
 };

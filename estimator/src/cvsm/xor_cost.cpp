@@ -38,8 +38,6 @@ std::int64_t count_xor_rows_unhidden(const std::uint64_t* model, const std::uint
   return count;
 }
 
-constexpr float kQ8Limit = 1 << 24;  // |Q8| clamp, far outside any image
-
 }  // namespace
 
 XorCost::XorCost(const CameraRig& rig, int width, int height)
@@ -112,7 +110,7 @@ bool XorCost::project_plane(int view, const Eigen::Vector3d* world, PixelQ8* out
     in_front &= w >= splat(1.0f);  // not behind, nor within 1 mm of, the camera plane
     // |coordinates| are clamped far outside the image (a point just in
     // front of the camera projects anywhere).
-    const f32x4 scale = splat(256.0f) / max(w, splat(1.0f)), limit = splat(kQ8Limit);
+    const f32x4 scale = splat(256.0f) / max(w, splat(1.0f)), limit = splat(static_cast<float>(kQ8Limit));
     const f32x4 u = (splat(p[0]) * x + splat(p[1]) * y + splat(p[2]) * z + splat(p[3])) * scale;
     const f32x4 v = (splat(p[4]) * x + splat(p[5]) * y + splat(p[6]) * z + splat(p[7])) * scale;
     const i32x4 uq = round(max(min(u, limit), -limit)), vq = round(max(min(v, limit), -limit));

@@ -60,6 +60,28 @@ TEST(FixedCamera, ProjectsWithinTheStatedBound) {
   EXPECT_FALSE(FixedCamera(rig.frontal).project({2500, 1000, 0}, q));  // behind the camera
 }
 
+// A point just in front of a camera, or far out where a lens's distortion
+// polynomial runs away, projects anywhere: both paths clamp it to
+// ±kQ8Limit, where a ring's packed keys stay exact (segment_scan.hpp).
+// Unclamped, a real camera's distortion (caliscope's cam_2, imported) put
+// a point so far out that the scan read past a ring's points (ASan).
+TEST(FixedCamera, ClampsPointsFarOutsideTheImage) {
+  CameraModel distorted = CameraRig::default_rig().frontal;
+  distorted.dist_coeffs[0] = 0.4;  // k1
+  distorted.dist_coeffs[1] = 0.9;  // k2
+  ASSERT_TRUE(distorted.has_distortion());
+  for (const CameraModel& cam : {CameraRig::default_rig().frontal, distorted}) {
+    const FixedCamera fixed(cam);
+    // 2 mm in front of the camera's plane, 1.5 m off its axis.
+    const Eigen::Vector3d near_plane = cam.R.transpose() * (Eigen::Vector3d(1500, 900, 2) - cam.t);
+    PixelQ8 q;
+    ASSERT_TRUE(fixed.project(near_plane, q));
+    EXPECT_LE(std::abs(q.u), kQ8Limit);
+    EXPECT_LE(std::abs(q.v), kQ8Limit);
+    EXPECT_EQ(std::abs(q.u), kQ8Limit) << "far outside: held at the limit";
+  }
+}
+
 TEST(XorCost, AgreesWithOpenCvReferenceOnRandomCandidates) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel model = other_subject();
