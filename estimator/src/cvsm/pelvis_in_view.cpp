@@ -3,10 +3,7 @@
 #include "spinewatch/estimator/vertebra_levels.hpp"
 
 namespace spinewatch::cvsm_detail {
-namespace {
 
-// Silhouette pixels on one edge of the image: the bottom or top row, the
-// left or right column.
 int pixels_on_edge(const BitMask& silhouette, ImageEdge edge) {
   const int w = silhouette.width(), h = silhouette.height();
   if (edge == ImageEdge::Bottom || edge == ImageEdge::Top)
@@ -17,16 +14,18 @@ int pixels_on_edge(const BitMask& silhouette, ImageEdge edge) {
   return n;
 }
 
-}  // namespace
-
 std::optional<ImageEdge> edge_beyond(const Eigen::Vector2d& pixel, int width, int height) {
-  // The edge it is farthest beyond, in pixels.
+  const EdgeDistance farthest = farthest_edge(pixel, width, height);
+  if (farthest.beyond_px <= 0) return std::nullopt;
+  return farthest.edge;
+}
+
+EdgeDistance farthest_edge(const Eigen::Vector2d& pixel, int width, int height) {
   const double beyond[4] = {pixel.y() - (height - 1), -pixel.y(), -pixel.x(), pixel.x() - (width - 1)};
   int best = 0;
   for (int e = 1; e < 4; ++e)
     if (beyond[e] > beyond[best]) best = e;
-  if (beyond[best] <= 0) return std::nullopt;
-  return static_cast<ImageEdge>(best);
+  return {static_cast<ImageEdge>(best), beyond[best]};
 }
 
 bool pelvis_out_of_view(const CameraModel& camera, const BitMask& silhouette, const BodyModel& model,

@@ -26,6 +26,18 @@ enum class ImageEdge { Bottom, Top, Left, Right };
 // farthest beyond), nothing when it is inside.
 std::optional<ImageEdge> edge_beyond(const Eigen::Vector2d& pixel, int width, int height);
 
+// The edge a pixel is farthest beyond (or nearest inside) and by how much:
+// positive beyond it, negative or zero inside the image.
+struct EdgeDistance {
+  ImageEdge edge = ImageEdge::Bottom;
+  double beyond_px = 0;
+};
+EdgeDistance farthest_edge(const Eigen::Vector2d& pixel, int width, int height);
+
+// Silhouette pixels on one edge of the image: the bottom or top row, the
+// left or right column.
+int pixels_on_edge(const BitMask& silhouette, ImageEdge edge);
+
 // The view does not show the pelvis: both hip joints of the model at
 // `vertebrae` (its fitted spine) project outside the image, and the
 // silhouette runs into the edge they lie beyond on at least

@@ -9,6 +9,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/occluder_edge.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lower_residual.cpp
   ${CMAKE_CURRENT_LIST_DIR}/pelvis_in_view.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/head_in_view.cpp
   ${CMAKE_CURRENT_LIST_DIR}/posture_hidden.cpp
   ${CMAKE_CURRENT_LIST_DIR}/legs_region.cpp
   ${CMAKE_CURRENT_LIST_DIR}/segment_scan.cpp

@@ -94,6 +94,7 @@ CvsmResult CvsmTracker::Impl::track(const BitMask& frontal, const BitMask& later
   }
   withhold_hidden_lower_body(r);
   withhold_unseen_pelvis(frontal, lateral, r);
+  withhold_misplaced_head(frontal, lateral, r);
   withhold_bent_knees(r);
   if (searched_globally && r.state == TrackingState::Tracking && left_view && !held_away &&
       opt.heading != HeadingRange::Any)

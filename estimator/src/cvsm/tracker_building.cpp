@@ -69,10 +69,12 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
     phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
     withhold_unseen_pelvis(frontal, lateral, r);
+    withhold_misplaced_head(frontal, lateral, r);
     if (held_away) hold_turned_away(frontal, lateral, r);
     withhold_unexplained_legs(frontal, lateral, r);
   } else if (init_frames >= opt.provisional_frames && heading_resolved && !held_away && facing_settled() &&
-             !building_interrupted && pelvis_seen(frontal, lateral, r)) {
+             !building_interrupted && pelvis_seen(frontal, lateral, r) &&
+             head_placed(frontal, lateral, r)) {
     publish_provisional(r);
   }
   return r;

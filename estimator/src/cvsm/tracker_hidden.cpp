@@ -1,7 +1,9 @@
 // What the views do not show (tracker_impl.hpp): an occluder in front of
-// the lower body, left out of the cost, and a pelvis that neither view
-// shows, withheld from tracking (docs/cvsm.md, "Occluded lower body",
-// "Pelvis out of the picture").
+// the lower body, left out of the cost, a pelvis that neither view shows,
+// and a fitted head beyond the picture where the person's is in it,
+// withheld from tracking (docs/cvsm.md, "Occluded lower body", "Pelvis out
+// of the picture", "Head above the picture").
+#include "cvsm/head_in_view.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/pelvis_in_view.hpp"
 #include "cvsm/tracker_impl.hpp"
@@ -57,6 +59,23 @@ void CvsmTracker::Impl::withhold_unseen_pelvis(const BitMask& frontal, const Bit
 bool CvsmTracker::Impl::pelvis_seen(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const {
   if (!hiding[0] && !cvsm_detail::pelvis_out_of_view(rig.frontal, frontal, model, r.vertebrae)) return true;
   return !hiding[1] && !cvsm_detail::pelvis_out_of_view(rig.lateral, lateral, model, r.vertebrae);
+}
+
+// A view shows the person's head inside the picture where the fit put its
+// head beyond the edge (docs/cvsm.md, "Head above the picture"): the model
+// stands too high, its neck and shoulders in the head's place. Not published
+// as tracking; the fit goes on from this pose.
+void CvsmTracker::Impl::withhold_misplaced_head(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const {
+  if (r.state != TrackingState::Tracking || head_placed(frontal, lateral, r)) return;
+  r.state = TrackingState::Lost;
+  if (!r.fit.flag || *r.fit.flag == kTwistUnresolvedFlag) r.fit.flag = std::string(kHeadBeyondImageFlag);
+}
+
+// Neither view contradicts the fitted head.
+bool CvsmTracker::Impl::head_placed(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const {
+  const Eigen::Vector3d head = cvsm_detail::model_head_centre(model, r.vertebrae, r.pose.limbs, r.pose.heading);
+  return !cvsm_detail::head_beyond_empty_edge(rig.frontal, frontal, head) &&
+         !cvsm_detail::head_beyond_empty_edge(rig.lateral, lateral, head);
 }
 
 }  // namespace spinewatch

@@ -232,6 +232,8 @@ struct CvsmTracker::Impl {
   void withhold_hidden_lower_body(CvsmResult& r) const;
   void withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const;
   bool pelvis_seen(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const;
+  void withhold_misplaced_head(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const;
+  bool head_placed(const BitMask& frontal, const BitMask& lateral, const CvsmResult& r) const;
 };
 
 }  // namespace spinewatch

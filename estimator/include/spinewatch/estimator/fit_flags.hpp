@@ -17,6 +17,13 @@ inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
 // out of the picture").
 inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
 
+// The fitted head lies beyond an edge of the image in a view whose
+// silhouette does not reach that edge: the person's head is in the
+// picture and the model's is out of it, placed too high with its neck and
+// shoulders where the head is, so the spine is drawn over the head; the
+// pair is lost (docs/cvsm.md, "Head above the picture").
+inline constexpr std::string_view kHeadBeyondImageFlag = "head_beyond_image";
+
 // The subject turned his back to the frontal camera where [cvsm] heading
 // ("fixed", "front") does not take that side: the fit would be his mirror
 // image, so the pair is lost (docs/cvsm.md, "Turned away from the range").
