@@ -5,7 +5,7 @@
 #define CRC_INIT 0xFFFF
 #define PAYLOAD (TRIG_EEPROM_SIZE - 2)
 
-static void put_u32(uint8_t *p, uint32_t v) {
+static void put_le32(uint8_t *p, uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = (uint8_t)(v >> (8 * i));
 }
 
@@ -18,10 +18,10 @@ static uint32_t get_u32(const uint8_t *p) {
 void trig_eeprom_encode(const trig_state *st, uint8_t image[TRIG_EEPROM_SIZE]) {
   image[0] = TRIG_EEPROM_MAGIC;
   image[1] = TRIG_EEPROM_LAYOUT;
-  put_u32(image + 2, st->settings.rate_mhz);
-  put_u32(image + 6, st->settings.width_us);
-  put_u32(image + 10, st->settings.delay_us[TRIG_CH_A]);
-  put_u32(image + 14, st->settings.delay_us[TRIG_CH_B]);
+  put_le32(image + 2, st->settings.rate_mhz);
+  put_le32(image + 6, st->settings.width_us);
+  put_le32(image + 10, st->settings.delay_us[TRIG_CH_A]);
+  put_le32(image + 14, st->settings.delay_us[TRIG_CH_B]);
   image[18] = st->running ? 1 : 0;
   const uint16_t crc = trig_crc16(CRC_INIT, image, PAYLOAD);
   image[19] = (uint8_t)crc;

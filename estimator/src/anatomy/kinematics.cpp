@@ -2,15 +2,16 @@
 
 #include <cmath>
 
+#include "spinewatch/estimator/units.hpp"
+
 namespace spinewatch {
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 }
 
 Eigen::Quaterniond joint_rotation(const JointAngles& a) {
-  return Eigen::AngleAxisd(-a.flexion * kDeg, Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(a.lateral * kDeg, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(a.twist * kDeg, Eigen::Vector3d::UnitY());
+  return Eigen::AngleAxisd(-a.flexion * kRadPerDeg, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(a.lateral * kRadPerDeg, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(a.twist * kRadPerDeg, Eigen::Vector3d::UnitY());
 }
 
 JointAngles joint_angles(const Eigen::Quaterniond& relative) {
@@ -20,7 +21,7 @@ JointAngles joint_angles(const Eigen::Quaterniond& relative) {
   const double b = std::asin(std::clamp(R(2, 1), -1.0, 1.0));
   const double c = std::atan2(-R(2, 0), R(2, 2));
   const double a = std::atan2(-R(0, 1), R(1, 1));
-  return {-a / kDeg, b / kDeg, c / kDeg};
+  return {-a / kRadPerDeg, b / kRadPerDeg, c / kRadPerDeg};
 }
 
 SpinePose pose_spine(const SpinePose& neutral, const SegmentalMotion& motion) {

@@ -7,13 +7,12 @@
 #include "common/toml_fields.hpp"
 #include "spinewatch/estimator/anatomy/kinematics.hpp"
 #include "spinewatch/estimator/load/schultz.hpp"
+#include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch {
 namespace {
 
-constexpr double kDeg = 180.0 / M_PI;
 constexpr std::int64_t kMinuteNs = 60'000'000'000;
-constexpr std::size_t kFirstLumbar = 12;
 
 }  // namespace
 
@@ -56,8 +55,8 @@ TrunkAngles trunk_angles(const SpinePose& pose, const SpinePose& neutral) {
   const Eigen::Vector3d d = (pose[kNeckIndex].body_center - pose[kWaistIndex].body_center).normalized();
   const Eigen::Vector3d d0 = (neutral[kNeckIndex].body_center - neutral[kWaistIndex].body_center).normalized();
   TrunkAngles a;
-  a.inclination_deg = (std::atan2(d.x(), d.y()) - std::atan2(d0.x(), d0.y())) * kDeg;
-  a.lateral_deg = (std::asin(std::clamp(d.z(), -1.0, 1.0)) - std::asin(std::clamp(d0.z(), -1.0, 1.0))) * kDeg;
+  a.inclination_deg = (std::atan2(d.x(), d.y()) - std::atan2(d0.x(), d0.y())) * kDegPerRad;
+  a.lateral_deg = (std::asin(std::clamp(d.z(), -1.0, 1.0)) - std::asin(std::clamp(d0.z(), -1.0, 1.0))) * kDegPerRad;
   const Eigen::Quaterniond rel = pose[kWaistIndex].q.conjugate() * pose[kNeckIndex].q;
   const Eigen::Quaterniond rel0 = neutral[kWaistIndex].q.conjugate() * neutral[kNeckIndex].q;
   a.twist_deg = joint_angles(rel * rel0.conjugate()).twist;
@@ -124,7 +123,7 @@ Ergonomics ErgonomicsMonitor::update(const SpinePose& pose, const std::vector<Le
   // NIOSH 1981: the largest lumbar compression.
   double lumbar = 0;
   for (const LevelLoad& l : loads)
-    if (auto i = vertebra_index(l.level); i && *i >= kFirstLumbar) lumbar = std::max(lumbar, l.compression_n);
+    if (auto i = vertebra_index(l.level); i && *i >= kFirstLumbarIndex) lumbar = std::max(lumbar, l.compression_n);
   if (!loads.empty()) {
     const std::string severity = lumbar >= limits_.niosh_maximum_n        ? "not_acceptable"
                                  : lumbar >= limits_.niosh_action_limit_n ? "conditional"

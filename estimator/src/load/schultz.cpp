@@ -5,12 +5,10 @@
 #include <stdexcept>
 
 #include "common/toml_fields.hpp"
+#include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch {
 namespace {
-
-constexpr double kGravity = 9.81;
-constexpr std::size_t kFirstLumbar = 12;
 
 Result<Eigen::Vector3d> vector3(const toml::table& t, std::string_view key, std::string_view source) {
   const toml::array* a = t[key].as_array();
@@ -31,8 +29,8 @@ double slice_share(const SpinePose& pose, std::size_t k) {
     const std::size_t j = i + 1 < kVertebraCount ? i + 1 : i - 1;
     return (pose[i].body_center - pose[j].body_center).norm();
   };
-  const std::size_t first = k < kFirstLumbar ? 0 : kFirstLumbar;
-  const std::size_t last = k < kFirstLumbar ? kFirstLumbar : kVertebraCount;
+  const std::size_t first = k < kFirstLumbarIndex ? 0 : kFirstLumbarIndex;
+  const std::size_t last = k < kFirstLumbarIndex ? kFirstLumbarIndex : kVertebraCount;
   double total = 0;
   for (std::size_t i = first; i < last; ++i) total += length(i);
   return total > 0 ? length(k) / total : 0.0;
@@ -122,7 +120,7 @@ SchultzInputs schultz_inputs(const SpinePose& pose, std::size_t level, const Loa
   }
   double moment = 0;
   for (std::size_t k = 0; k <= level; ++k) {
-    const double w = (k < kFirstLumbar ? p.thorax : p.abdomen) * weight * slice_share(pose, k);
+    const double w = (k < kFirstLumbarIndex ? p.thorax : p.abdomen) * weight * slice_share(pose, k);
     in.w_trunk += w;
     moment += w * lever(pose[k].body_center + pose[k].q * Eigen::Vector3d(p.trunk_com_anterior_mm * s, 0, 0));
   }

@@ -4,11 +4,11 @@
 #include <stdexcept>
 
 #include "common/toml_fields.hpp"
+#include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 std::string at(std::string_view source, const toml::node& n) {
   return fmt::format("{}:{}", source, n.source().begin.line);
@@ -27,7 +27,7 @@ Status check_keys(const toml::table& t, std::string_view source, std::string_vie
 }  // namespace
 
 Eigen::Vector3d JointStiffness::nm_per_rad() const {
-  const Eigen::Vector3d range_rad(lateral_deg * kDeg, axial_deg * kDeg, 0.5 * flexion_extension_deg * kDeg);
+  const Eigen::Vector3d range_rad(lateral_deg * kRadPerDeg, axial_deg * kRadPerDeg, 0.5 * flexion_extension_deg * kRadPerDeg);
   return moment_nm * range_rad.cwiseInverse();
 }
 

@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "spine/block_tridiagonal.hpp"
+#include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch {
 namespace {
@@ -44,7 +45,6 @@ Eigen::Vector3d bounded(const Eigen::Vector3d& v, double max_norm) {
   return n > max_norm ? Eigen::Vector3d(v * (max_norm / n)) : v;
 }
 
-constexpr double kGravity = 9.81;           // m/s²
 constexpr double kRotationReachMm = 20.0;   // converts a rotation step to a displacement at a vertebra's rim
 
 }  // namespace

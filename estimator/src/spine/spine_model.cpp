@@ -6,13 +6,11 @@
 namespace spinewatch {
 namespace {
 
-constexpr std::size_t kFirstLumbar = 12;  // L1
-
 VertebraBody build_body(std::size_t i, const BodyDims& dims, const SpineModelOptions& o) {
   VertebraBody b;
   b.name = std::string(kVertebraNames[i]);
   b.dims = dims;
-  const PosteriorElements& posterior = i >= kFirstLumbar ? o.geometry.lumbar : o.geometry.thoracic;
+  const PosteriorElements& posterior = i >= kFirstLumbarIndex ? o.geometry.lumbar : o.geometry.thoracic;
   const std::vector<Eigen::Vector3d> particles = voxelise(vertebra_solid(dims, posterior), o.voxel_mm);
   const double v = o.voxel_mm * 1e-3;
   const double particle_kg = o.geometry.bone_density_kg_per_m3 * v * v * v;

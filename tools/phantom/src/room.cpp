@@ -10,11 +10,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "spinewatch/estimator/units.hpp"
+
 namespace spinewatch::phantom {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kDeg = M_PI / 180.0;
 // As the plain scene (renderer.cpp): the wall this far behind the subject.
 constexpr double kWallBehindMm = 1500;
 
@@ -264,7 +265,7 @@ std::vector<SceneBox> furniture_boxes(Furniture furniture, double heading_deg) {
       for (double side : {-1.0, 1.0}) boxes.push_back({{370, 430, side * 570}, Eigen::Matrix3d::Identity(), {20, 430, 20}, 110, panel});
       break;
   }
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(heading_deg * kDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(heading_deg * kRadPerDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
   for (SceneBox& b : boxes) {
     b.centre = turn * b.centre;
     b.axes = turn;

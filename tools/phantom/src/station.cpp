@@ -5,22 +5,23 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "spinewatch/estimator/units.hpp"
+
 namespace spinewatch::phantom {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 // A camera `kCameraDistanceMm` from the Y axis at azimuth `azimuth_deg`
 // (0: on +X), `height_mm` up, looking towards the axis and down by
 // `tilt_deg`, rolled by `roll_deg`.
 CameraModel camera_at(double azimuth_deg, double height_mm, double tilt_deg, double roll_deg) {
   CameraModel camera = CameraRig::default_rig().frontal;  // the intrinsics
-  const Eigen::Vector3d towards(-std::cos(azimuth_deg * kDeg), 0, -std::sin(azimuth_deg * kDeg));
-  const Eigen::Vector3d axis = std::cos(tilt_deg * kDeg) * towards - std::sin(tilt_deg * kDeg) * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d towards(-std::cos(azimuth_deg * kRadPerDeg), 0, -std::sin(azimuth_deg * kRadPerDeg));
+  const Eigen::Vector3d axis = std::cos(tilt_deg * kRadPerDeg) * towards - std::sin(tilt_deg * kRadPerDeg) * Eigen::Vector3d::UnitY();
   // Image down: the world's down, less its part along the axis.
   const Eigen::Vector3d down = (-Eigen::Vector3d::UnitY() - (-axis.y()) * axis).normalized();
   const Eigen::Vector3d right = down.cross(axis);
-  const double c = std::cos(roll_deg * kDeg), s = std::sin(roll_deg * kDeg);
+  const double c = std::cos(roll_deg * kRadPerDeg), s = std::sin(roll_deg * kRadPerDeg);
   camera.R.row(0) = (c * right + s * down).transpose();
   camera.R.row(1) = (-s * right + c * down).transpose();
   camera.R.row(2) = axis.transpose();
@@ -43,16 +44,16 @@ Result<CameraRig> station_rig(const StationGeometry& g) {
   double tilt = g.tilt_deg.value_or(0), height = kAimHeightMm;
   if (g.tilt_deg && g.height_mm) {
     height = *g.height_mm;
-    const double aim = height - kCameraDistanceMm * std::tan(tilt * kDeg);
+    const double aim = height - kCameraDistanceMm * std::tan(tilt * kRadPerDeg);
     if (aim < 300 || aim > 1900)
       return Error{fmt::format("camera height {} mm with tilt {}°: the cameras would look at {:.0f} mm above the floor, "
                                "not at the subject's trunk (300–1900 mm); give one of them, or a steeper/shallower tilt",
                                height, tilt, aim)};
   } else if (g.tilt_deg) {
-    height = kAimHeightMm + kCameraDistanceMm * std::tan(tilt * kDeg);
+    height = kAimHeightMm + kCameraDistanceMm * std::tan(tilt * kRadPerDeg);
   } else if (g.height_mm) {
     height = *g.height_mm;
-    tilt = std::atan((height - kAimHeightMm) / kCameraDistanceMm) / kDeg;
+    tilt = std::atan((height - kAimHeightMm) / kCameraDistanceMm) / kRadPerDeg;
   }
   CameraRig rig;
   rig.frontal = camera_at(0, height, tilt, g.roll_deg);

@@ -12,6 +12,7 @@ inline constexpr std::array<std::string_view, kVertebraCount> kVertebraNames = {
     "T10", "T11", "T12", "L1", "L2", "L3", "L4", "L5"};
 inline constexpr std::size_t kNeckIndex = 0;    // T1
 inline constexpr std::size_t kWaistIndex = 16;  // L5
+inline constexpr std::size_t kFirstLumbarIndex = 12;  // L1
 
 constexpr std::optional<std::size_t> vertebra_index(std::string_view name) {
   for (std::size_t i = 0; i < kVertebraCount; ++i)
