@@ -5,8 +5,6 @@
 #include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch {
-namespace {
-}
 
 Eigen::Quaterniond joint_rotation(const JointAngles& a) {
   return Eigen::AngleAxisd(-a.flexion * kRadPerDeg, Eigen::Vector3d::UnitZ()) *

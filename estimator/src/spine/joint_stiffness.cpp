@@ -9,7 +9,6 @@
 namespace spinewatch {
 namespace {
 
-
 std::string at(std::string_view source, const toml::node& n) {
   return fmt::format("{}:{}", source, n.source().begin.line);
 }
@@ -27,7 +26,8 @@ Status check_keys(const toml::table& t, std::string_view source, std::string_vie
 }  // namespace
 
 Eigen::Vector3d JointStiffness::nm_per_rad() const {
-  const Eigen::Vector3d range_rad(lateral_deg * kRadPerDeg, axial_deg * kRadPerDeg, 0.5 * flexion_extension_deg * kRadPerDeg);
+  const Eigen::Vector3d range_rad(lateral_deg * kRadPerDeg, axial_deg * kRadPerDeg,
+                                  0.5 * flexion_extension_deg * kRadPerDeg);
   return moment_nm * range_rad.cwiseInverse();
 }
 
