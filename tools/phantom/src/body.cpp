@@ -16,8 +16,8 @@ const std::vector<Eigen::Vector3d>& unit_sphere() {
     std::vector<Eigen::Vector3d> p{Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitY()};
     for (int lat = -60; lat <= 60; lat += 30)
       for (int lon = 0; lon < 360; lon += 30)
-        p.emplace_back(std::cos(lat * kDeg) * std::cos(lon * kDeg), std::sin(lat * kDeg),
-                       std::cos(lat * kDeg) * std::sin(lon * kDeg));
+        p.emplace_back(std::cos(lat * kRadPerDeg) * std::cos(lon * kRadPerDeg), std::sin(lat * kRadPerDeg),
+                       std::cos(lat * kRadPerDeg) * std::sin(lon * kRadPerDeg));
     return p;
   }();
   return points;
@@ -46,7 +46,6 @@ Solid box(const Eigen::Vector3d& centre, const Eigen::Matrix3d& axes, const Eige
 namespace {
 
 using detail::capsule;
-using detail::kDeg;
 using detail::unit_sphere;
 
 constexpr int kRingPoints = 20;
@@ -164,7 +163,7 @@ BodyPose BodyModel::pose(const TrunkMotion& m, const LimbMotion* limbs) const {
 }
 
 void turn(BodyPose& body, double heading_deg) {
-  const Eigen::Quaterniond q(Eigen::AngleAxisd(heading_deg * kDeg, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(heading_deg * kRadPerDeg, Eigen::Vector3d::UnitY()));
   for (VertebraPose& v : body.spine) {
     v.body_center = q * v.body_center;
     v.q = (q * v.q).normalized();
@@ -239,7 +238,7 @@ void BodyModel::add_head_and_arms(const SpinePose& spine, std::vector<Solid>& ou
         t1.body_center + thorax * Eigen::Vector3d(-s.spine_depth_thoracic_mm + 0.75 * s.chest.half_depth_mm, shoulder_joint_y_,
                                                   side * (0.5 * s.shoulder_width_mm - s.upper_arm_radius_mm));
     // Slightly abducted (7°), elbow slightly bent.
-    const Eigen::Vector3d upper_dir(0, -std::cos(7 * kDeg), side * std::sin(7 * kDeg));
+    const Eigen::Vector3d upper_dir(0, -std::cos(7 * kRadPerDeg), side * std::sin(7 * kRadPerDeg));
     const Eigen::Vector3d fore_dir = (upper_dir + Eigen::Vector3d(0.35, 0, 0)).normalized();
     const Eigen::Vector3d elbow = shoulder + thorax * (0.46 * s.arm_length_mm * upper_dir);
     const Eigen::Vector3d hand = elbow + thorax * (0.54 * s.arm_length_mm * fore_dir);

@@ -12,10 +12,9 @@ namespace spinewatch::phantom {
 namespace {
 
 using detail::capsule;
-using detail::kDeg;
 
 Eigen::Matrix3d about(const Eigen::Vector3d& axis, double deg) {
-  return Eigen::AngleAxisd(deg * kDeg, axis).toRotationMatrix();
+  return Eigen::AngleAxisd(deg * kRadPerDeg, axis).toRotationMatrix();
 }
 
 // The head on the neck, in T1's frame: flexion about Z (nodding forwards,
@@ -52,7 +51,7 @@ void BodyModel::add_posed_head_and_arms(const SpinePose& spine, const LimbMotion
     const Eigen::Vector3d shoulder =
         t1.body_center + thorax * Eigen::Vector3d(-s.spine_depth_thoracic_mm + 0.75 * s.chest.half_depth_mm,
                                                   shoulder_joint_y_, side * (0.5 * s.shoulder_width_mm - s.upper_arm_radius_mm));
-    const Eigen::Vector3d upper_rest(0, -std::cos(7 * kDeg), side * std::sin(7 * kDeg));
+    const Eigen::Vector3d upper_rest(0, -std::cos(7 * kRadPerDeg), side * std::sin(7 * kRadPerDeg));
     const Eigen::Vector3d fore_rest = (upper_rest + Eigen::Vector3d(0.35, 0, 0)).normalized();
     // The elbow bends in the plane of the rest bend; the upper arm rises
     // forwards (about Z), that plane swung out to the side (about Y).

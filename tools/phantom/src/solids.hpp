@@ -5,11 +5,10 @@
 
 #include <Eigen/Core>
 
+#include "spinewatch/estimator/units.hpp"
 #include "spinewatch/phantom/body.hpp"
 
 namespace spinewatch::phantom::detail {
-
-inline constexpr double kDeg = M_PI / 180.0;
 
 // Points on a unit sphere, enough that the hull of their projection is
 // within a fraction of a pixel of the true outline at this image scale.
