@@ -10,11 +10,13 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "driver_query.hpp"
 #include "guest_env.hpp"
+#include "largest_pairing.hpp"
 #include "spinewatch/capture/recording.hpp"
 #include "spinewatch/estimator/posture_json.hpp"
 
@@ -86,37 +88,19 @@ TEST(CLI, RecordReplay) {
     last_seq = posture->seq;
     ++lines;
   }
-  // Two free-running cameras pair frame for frame, give or take the ends,
-  // and which frames pair depends on how the guest scheduled the two capture
+  // Two free-running cameras pair frame for frame, give or take the ends;
+  // which frames pair depends on how the guest scheduled the two capture
   // threads (a loaded host starts one camera late, or bunches a camera's
-  // frames). So the expected count comes from the recorded timestamps: the
-  // most one-to-one pairs within the pairer's tolerance (half a period) that
-  // they allow. Counting every frontal frame with any lateral one in reach
-  // would count one lateral frame twice when the cameras run half a period
-  // apart. Walking both sorted streams from the front finds that maximum: a
-  // head pair in reach is in some largest matching, and a head too old for
-  // the other stream's head is too old for all that follow it.
-  const std::int64_t period_ns = std::llround(1e9 / *fps);
-  const std::int64_t tolerance_ns = period_ns / 2;
-  const auto& frontal = reader->info().frames[0];
-  const auto& lateral = reader->info().frames[1];
-  int matchable = 0;
+  // frames), so the expected count comes from the recorded timestamps.
+  const std::int64_t tolerance_ns = std::llround(1e9 / *fps) / 2;  // the pairer's: half a period
+  std::vector<std::int64_t> times[2];
   std::string timestamps;
-  for (std::size_t f = 0, l = 0; f < frontal.size() && l < lateral.size();) {
-    const std::int64_t d = frontal[f].timestamp_ns - lateral[l].timestamp_ns;
-    if (std::llabs(d) <= tolerance_ns) {
-      ++matchable;
-      ++f;
-      ++l;
-    } else if (d < 0) {
-      ++f;
-    } else {
-      ++l;
-    }
-  }
   for (View v : kViews)
-    for (const auto& frame : reader->info().frames[static_cast<int>(v)])
+    for (const auto& frame : reader->info().frames[static_cast<int>(v)]) {
+      times[static_cast<int>(v)].push_back(frame.timestamp_ns);
       timestamps += std::string(to_string(v)) + " " + std::to_string(frame.timestamp_ns) + "\n";
+    }
+  const auto matchable = static_cast<int>(largest_pairing(times[0], times[1], tolerance_ns));
   EXPECT_EQ(lines, matchable) << "recorded timestamps:\n" << timestamps << replay.output;
   EXPECT_GE(lines, kFrames / 2);
   EXPECT_LE(lines, kFrames);
