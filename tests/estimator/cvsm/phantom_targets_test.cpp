@@ -1,0 +1,96 @@
+// Issue 31's phantom targets on a fixed set of scenarios and station
+// geometries, for the three measured adults of the baseline table (ANSUR
+// II test set: 28496, 25762, 11953; docs/accuracy.md, "Today's fit on the
+// varied phantom"): at least 90 % of the person frames estimated and no
+// posture published as tracking more than 50 mm off. Each is rendered in
+// memory (60 person frames after the ten empty ones, seed 1, as in the
+// table) and fitted with the estimator's defaults from its silhouettes
+// alone, each subject on its own. The rows are those where both targets
+// hold today for every subject; the rows where they do not, the same
+// motions twice as fast, and the third target (neck and waist within
+// 10 mm on average) are in docs/accuracy.md, "Targets asserted".
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/phantom/ansur_subject.hpp"
+#include "test_support.hpp"
+#include "trust_run.hpp"
+
+namespace spinewatch {
+namespace {
+
+constexpr int kPersonFrames = 60;
+constexpr int kMinTracking = 54;  // 90 % of kPersonFrames (measured: 57-58, the first pairs init)
+
+struct TargetRow {
+  const char* name;
+  const char* scenario;
+  std::optional<phantom::StationGeometry> station;
+  double heading_deg = 0;
+};
+
+phantom::StationGeometry tilted(double deg) {
+  phantom::StationGeometry g;
+  g.tilt_deg = deg;
+  return g;
+}
+phantom::StationGeometry rolled(double deg) {
+  phantom::StationGeometry g;
+  g.roll_deg = deg;
+  return g;
+}
+phantom::StationGeometry apart(double deg) {
+  phantom::StationGeometry g;
+  g.pair_angle_deg = deg;
+  return g;
+}
+phantom::StationGeometry raised(double mm) {
+  phantom::StationGeometry g;
+  g.height_mm = mm;
+  return g;
+}
+
+void PrintTo(const TargetRow& row, std::ostream* os) { *os << row.name; }
+
+class PhantomTargets : public ::testing::TestWithParam<TargetRow> {};
+
+TEST_P(PhantomTargets, NinetyPercentEstimatedAndNoConfidentlyWrongPosture) {
+  const TargetRow& row = GetParam();
+  for (const int id : {28496, 25762, 11953}) {
+    phantom::PhantomOptions po;
+    po.scenario = row.scenario;
+    auto subject = phantom::load_ansur_subject("ansur:" + std::to_string(id),
+                                               test::source_path(std::string(anthropometry::kAnsurRelativeDir)));
+    ASSERT_TRUE(subject.ok()) << subject.error().message;
+    po.subject = *subject;
+    po.frames = kPersonFrames;
+    po.station = row.station;
+    po.heading_deg = row.heading_deg;
+    const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, std::string(row.name) + " " + std::to_string(id));
+    ASSERT_EQ(run.person_frames, kPersonFrames);
+    EXPECT_GE(run.tracking, kMinTracking) << id;
+    EXPECT_EQ(run.wrong, 0) << id << ": worst " << run.worst_mm << " mm";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Rows, PhantomTargets,
+                         ::testing::Values(TargetRow{"flexion", "flexion", std::nullopt},
+                                           TargetRow{"seated_flexion", "seated_flexion", std::nullopt},
+                                           TargetRow{"tilt_20", "flexion", tilted(20)},
+                                           TargetRow{"tilt_45", "flexion", tilted(45)},
+                                           TargetRow{"roll_10", "flexion", rolled(10)},
+                                           TargetRow{"roll_25", "flexion", rolled(25)},
+                                           TargetRow{"pair_angle_45", "flexion", apart(45)},
+                                           TargetRow{"pair_angle_70", "flexion", apart(70)},
+                                           TargetRow{"pair_angle_135", "flexion", apart(135)},
+                                           TargetRow{"heading_30", "flexion", std::nullopt, 30},
+                                           TargetRow{"heading_90", "flexion", std::nullopt, 90},
+                                           TargetRow{"camera_height_1600", "flexion", raised(1600)}),
+                         [](const ::testing::TestParamInfo<TargetRow>& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace spinewatch
