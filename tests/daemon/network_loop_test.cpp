@@ -25,7 +25,7 @@ namespace {
 using namespace std::chrono_literals;
 using test::LineClient;
 
-const std::string kHello = R"({"class":"hello","v":1,"daemon_version":"test","station":"loop"})";
+const std::string kLoopHello = R"({"class":"hello","v":1,"daemon_version":"test","station":"loop"})";
 
 class NetworkLoopTest : public ::testing::Test {
  protected:
@@ -34,7 +34,7 @@ class NetworkLoopTest : public ::testing::Test {
     PublisherOptions p;
     p.tcp = TcpEndpoint{"127.0.0.1", 0};
     p.unix_socket = socket_path;
-    auto publisher = Publisher::start(loop->io(), p, kHello);
+    auto publisher = Publisher::start(loop->io(), p, kLoopHello);
     ASSERT_TRUE(publisher) << publisher.error().message;
     pub = std::move(publisher).value();
     live = std::make_unique<LiveView>(CameraRig::default_rig(), LiveViewOptions{}, [](auto) {});
@@ -58,7 +58,7 @@ class NetworkLoopTest : public ::testing::Test {
 TEST_F(NetworkLoopTest, BothServersServeOnTheOneLoopAndCloseCleanlyBeforeItStops) {
   EXPECT_EQ(&pub->io_context(), &loop->io()) << "the publisher serves on the loop it was handed";
   auto client = LineClient::tcp(pub->tcp_port());
-  EXPECT_EQ(client.read_line(), kHello);
+  EXPECT_EQ(client.read_line(), kLoopHello);
   const auto metrics = test::http_get(http->port(), "/metrics");
   EXPECT_EQ(metrics.status, 200);
   EXPECT_NE(metrics.body.find("spinewatch_http_requests_total"), std::string::npos) << metrics.body;
@@ -77,7 +77,7 @@ TEST_F(NetworkLoopTest, BothServersServeOnTheOneLoopAndCloseCleanlyBeforeItStops
 // close at once, without waiting on a loop that no thread runs.
 TEST_F(NetworkLoopTest, ServersStopAtOnceWhenTheLoopHasStopped) {
   auto client = LineClient::tcp(pub->tcp_port());
-  EXPECT_EQ(client.read_line(), kHello);
+  EXPECT_EQ(client.read_line(), kLoopHello);
   loop->stop();
   const auto t0 = std::chrono::steady_clock::now();
   http->stop();

@@ -4,15 +4,14 @@
 
 #include "spinewatch/estimator/anatomy/kinematics.hpp"
 #include "spinewatch/estimator/anatomy/spine_spec.hpp"
+#include "spinewatch/estimator/units.hpp"
 #include "spinewatch/phantom/body.hpp"
 
 namespace spinewatch::phantom {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
 double angle_from_vertical_deg(const Eigen::Vector3d& dir) {
-  return std::acos(std::clamp(dir.normalized().y(), -1.0, 1.0)) / kDeg;
+  return std::acos(std::clamp(dir.normalized().y(), -1.0, 1.0)) * kDegPerRad;
 }
 
 TEST(PhantomBody, StandsAndSitsWithL5AboveTheOrigin) {

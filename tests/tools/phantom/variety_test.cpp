@@ -11,14 +11,13 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "spinewatch/estimator/units.hpp"
 #include "spinewatch/phantom/compression.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 #include "test_support.hpp"
 
 namespace spinewatch::phantom {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 PhantomSequence make(PhantomOptions options) {
   auto sequence = PhantomSequence::create(std::move(options));
@@ -225,14 +224,14 @@ TEST(PhantomStation, PairAngleTiltRollAndHeight) {
   for (double angle : {45.0, 60.0, 120.0, 135.0}) {
     auto rig = station_rig(geometry({}, 0, angle, {}));
     ASSERT_TRUE(rig);
-    const double between = std::acos(optical_axis(rig->frontal).dot(optical_axis(rig->lateral))) / kDeg;
+    const double between = std::acos(optical_axis(rig->frontal).dot(optical_axis(rig->lateral))) * kDegPerRad;
     EXPECT_NEAR(between, angle, 0.1);
   }
   // Tilted, the cameras look down by the tilt and still at the trunk.
   auto tilted = station_rig(geometry(30, 0, 90, {}));
   ASSERT_TRUE(tilted);
   for (const CameraModel* c : {&tilted->frontal, &tilted->lateral}) {
-    EXPECT_NEAR(std::asin(-optical_axis(*c).y()) / kDeg, 30, 1e-9);
+    EXPECT_NEAR(std::asin(-optical_axis(*c).y()) * kDegPerRad, 30, 1e-9);
     const auto aim = c->project({0, kAimHeightMm, 0});
     ASSERT_TRUE(aim);
     EXPECT_NEAR(aim->x(), 160, 1e-6);
@@ -260,7 +259,7 @@ TEST(PhantomStation, PairAngleTiltRollAndHeight) {
   ASSERT_TRUE(rolled);
   const auto lo = rolled->frontal.project({0, 800, 0}), hi = rolled->frontal.project({0, 1400, 0});
   const Eigen::Vector2d up = *hi - *lo;
-  EXPECT_NEAR(std::atan2(up.x(), -up.y()) / kDeg, -20, 0.1);  // the top of the line leans to image left
+  EXPECT_NEAR(std::atan2(up.x(), -up.y()) * kDegPerRad, -20, 0.1);  // the top of the line leans to image left
 
   // Raised alone, the cameras tilt to look at the trunk.
   auto high = station_rig(geometry({}, 0, 90, 2000));
@@ -279,7 +278,7 @@ TEST(PhantomStation, TheHeadingTurnsTheTruthAboutY) {
   PhantomOptions straight = short_run("combined", 5), turned = straight;
   turned.heading_deg = 135;
   const PhantomSequence a = make(straight), b = make(turned);
-  const Eigen::Quaterniond q(Eigen::AngleAxisd(135 * kDeg, Eigen::Vector3d::UnitY()));
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(135 * kRadPerDeg, Eigen::Vector3d::UnitY()));
   for (int i : {0, 2, 4}) {
     const Posture pa = a.ground_truth(i), pb = b.ground_truth(i);
     ASSERT_TRUE(pa.vertebrae && pb.vertebrae);
