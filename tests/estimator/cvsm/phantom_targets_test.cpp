@@ -33,24 +33,11 @@ struct TargetRow {
   double heading_deg = 0;
 };
 
-phantom::StationGeometry tilted(double deg) {
+// The default station with one of its settings changed by `set`.
+template <class Set>
+phantom::StationGeometry changed_station(Set set) {
   phantom::StationGeometry g;
-  g.tilt_deg = deg;
-  return g;
-}
-phantom::StationGeometry rolled(double deg) {
-  phantom::StationGeometry g;
-  g.roll_deg = deg;
-  return g;
-}
-phantom::StationGeometry apart(double deg) {
-  phantom::StationGeometry g;
-  g.pair_angle_deg = deg;
-  return g;
-}
-phantom::StationGeometry raised(double mm) {
-  phantom::StationGeometry g;
-  g.height_mm = mm;
+  set(g);
   return g;
 }
 
@@ -70,26 +57,30 @@ TEST_P(PhantomTargets, NinetyPercentEstimatedAndNoConfidentlyWrongPosture) {
     po.frames = kPersonFrames;
     po.station = row.station;
     po.heading_deg = row.heading_deg;
-    const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, std::string(row.name) + " " + std::to_string(id));
+    const test::TrustRun run =
+        test::track_for_trust(po, CvsmOptions{}, std::string(row.name) + " " + std::to_string(id));
     ASSERT_EQ(run.person_frames, kPersonFrames);
     EXPECT_GE(run.tracking, kMinTracking) << id;
     EXPECT_EQ(run.wrong, 0) << id << ": worst " << run.worst_mm << " mm";
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Rows, PhantomTargets,
-                         ::testing::Values(TargetRow{"flexion", "flexion", std::nullopt},
-                                           TargetRow{"seated_flexion", "seated_flexion", std::nullopt},
-                                           TargetRow{"tilt_20", "flexion", tilted(20)},
-                                           TargetRow{"tilt_45", "flexion", tilted(45)},
-                                           TargetRow{"roll_10", "flexion", rolled(10)},
-                                           TargetRow{"roll_25", "flexion", rolled(25)},
-                                           TargetRow{"pair_angle_45", "flexion", apart(45)},
-                                           TargetRow{"pair_angle_70", "flexion", apart(70)},
-                                           TargetRow{"pair_angle_135", "flexion", apart(135)},
-                                           TargetRow{"heading_30", "flexion", std::nullopt, 30},
-                                           TargetRow{"heading_90", "flexion", std::nullopt, 90},
-                                           TargetRow{"camera_height_1600", "flexion", raised(1600)}),
+const TargetRow kRows[] = {
+    {"flexion", "flexion", std::nullopt},
+    {"seated_flexion", "seated_flexion", std::nullopt},
+    {"tilt_20", "flexion", changed_station([](auto& g) { g.tilt_deg = 20; })},
+    {"tilt_45", "flexion", changed_station([](auto& g) { g.tilt_deg = 45; })},
+    {"roll_10", "flexion", changed_station([](auto& g) { g.roll_deg = 10; })},
+    {"roll_25", "flexion", changed_station([](auto& g) { g.roll_deg = 25; })},
+    {"pair_angle_45", "flexion", changed_station([](auto& g) { g.pair_angle_deg = 45; })},
+    {"pair_angle_70", "flexion", changed_station([](auto& g) { g.pair_angle_deg = 70; })},
+    {"pair_angle_135", "flexion", changed_station([](auto& g) { g.pair_angle_deg = 135; })},
+    {"heading_30", "flexion", std::nullopt, 30},
+    {"heading_90", "flexion", std::nullopt, 90},
+    {"camera_height_1600", "flexion", changed_station([](auto& g) { g.height_mm = 1600; })},
+};
+
+INSTANTIATE_TEST_SUITE_P(Rows, PhantomTargets, ::testing::ValuesIn(kRows),
                          [](const ::testing::TestParamInfo<TargetRow>& info) { return std::string(info.param.name); });
 
 }  // namespace
