@@ -191,7 +191,11 @@ TEST(TriggerLineBuffer, MaximumLengthBoundary) {
 TEST(TriggerLineBuffer, ResynchronisesAfterALongLine) {
   trig_linebuf lb;
   trig_linebuf_init(&lb);
-  const auto lines = feed(lb, std::string(500, 'z') + "\nVERSION\n");
+  // Appended, not `std::string(500, 'z') + "…"`: GCC 12 at -O1 (the tests'
+  // level) warns falsely on that temporary's move (-Warray-bounds).
+  std::string input(500, 'z');
+  input += "\nVERSION\n";
+  const auto lines = feed(lb, input);
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0].first, TRIG_LINE_TOO_LONG);
   EXPECT_EQ(lines[1].first, TRIG_LINE_READY);

@@ -18,42 +18,6 @@ namespace {
 
 using namespace test::synthetic;
 
-// The scene lit unevenly: `drop` at the right edge, half of it at the left.
-cv::Mat relit(const cv::Mat& bg, double drop) {
-  cv::Mat out(bg.size(), CV_8U);
-  for (int y = 0; y < bg.rows; ++y)
-    for (int x = 0; x < bg.cols; ++x)
-      out.at<std::uint8_t>(y, x) =
-          cv::saturate_cast<std::uint8_t>(bg.at<std::uint8_t>(y, x) * (1.0 - drop * (0.5 + 0.5 * x / (bg.cols - 1.0))));
-  return out;
-}
-
-// Daylight from a window at the right edge fading: `drop` there, none at
-// the left edge, so no single exposure gain describes the change.
-cv::Mat window(const cv::Mat& bg, double drop) {
-  cv::Mat out(bg.size(), CV_8U);
-  for (int y = 0; y < bg.rows; ++y)
-    for (int x = 0; x < bg.cols; ++x)
-      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(bg.at<std::uint8_t>(y, x) * (1.0 - drop * x / (bg.cols - 1.0)));
-  return out;
-}
-
-BitMask to_mask(const cv::Mat& m) {
-  BitMask out(m.cols, m.rows);
-  for (int y = 0; y < m.rows; ++y)
-    for (int x = 0; x < m.cols; ++x)
-      if (m.at<std::uint8_t>(y, x)) out.set(x, y);
-  return out;
-}
-
-cv::Mat to_mat(const BitMask& m) {
-  cv::Mat out(m.height(), m.width(), CV_8U, cv::Scalar(0));
-  for (int y = 0; y < m.height(); ++y)
-    for (int x = 0; x < m.width(); ++x)
-      if (m.get(x, y)) out.at<std::uint8_t>(y, x) = 255;
-  return out;
-}
-
 TEST(DilateSquare, EqualsOpenCvsRectangularDilation) {
   std::mt19937 rng(7);
   for (int radius : {0, 1, 2, 3, 5, 8, 13}) {

@@ -1,6 +1,10 @@
 #pragma once
 // A synthetic scene for the silhouette tests: a textured wall, a
-// person-like shape darker than it, sensor noise and exposure gain.
+// person-like shape darker than it, sensor noise and exposure gain. The
+// per-pixel builders are compiled optimised in every build
+// (synthetic_scene.cpp, library spinewatch_synthetic_scene): the tests that
+// compose thousands of frames would otherwise run at the test code's -O0
+// under the sanitizers (tests/CMakeLists.txt).
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -16,22 +20,11 @@ namespace spinewatch::test::synthetic {
 
 inline constexpr int kW = 320, kH = 240;
 
-inline cv::Mat background_image() {
-  cv::Mat bg(kH, kW, CV_8U);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(150 + 40 * x / kW + 20 * ((x / 16 + y / 16) % 2));
-  return bg;
-}
+cv::Mat background_image();
 
 // A smooth wall (a gradient and faint noise, as a painted wall lit from
 // one side): what bootstrapping can predict behind a subject.
-inline cv::Mat smooth_background() {
-  cv::Mat bg(kH, kW, CV_8U);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      bg.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(160 + 30 * x / kW + 15 * y / kH + ((x * 7 + y * 13) % 5));
-  return bg;
-}
+cv::Mat smooth_background();
 
 // A person-like shape (head, trunk, legs) darker than the background, with shading.
 inline cv::Mat person_mask(int dx = 0) {
@@ -43,25 +36,20 @@ inline cv::Mat person_mask(int dx = 0) {
   return m;
 }
 
-inline cv::Mat compose(const cv::Mat& bg, const cv::Mat& person, double gain, double noise, std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, noise);
-  cv::Mat out(kH, kW, CV_8U);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const double base = person.at<std::uint8_t>(y, x) ? 60 + 15 * std::sin(x * 0.2) * std::cos(y * 0.1) : bg.at<std::uint8_t>(y, x);
-      out.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(gain * base + n(rng));
-    }
-  return out;
-}
+cv::Mat compose(const cv::Mat& bg, const cv::Mat& person, double gain, double noise, std::mt19937& rng);
 
 inline LumaView view_of(const cv::Mat& m) { return {m.data, m.cols, m.rows, static_cast<std::ptrdiff_t>(m.step), 1}; }
 
-inline std::int64_t differing(const BitMask& a, const cv::Mat& b) {
-  std::int64_t n = 0;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) n += a.get(x, y) != (b.at<std::uint8_t>(y, x) != 0);
-  return n;
-}
+std::int64_t differing(const BitMask& a, const cv::Mat& b);
+
+// The scene lit unevenly: `drop` at the right edge, half of it at the left.
+cv::Mat relit(const cv::Mat& bg, double drop);
+// Daylight from a window at the right edge fading: `drop` there, none at
+// the left edge, so no single exposure gain describes the change.
+cv::Mat window(const cv::Mat& bg, double drop);
+// A 0/255 image as a mask, and back.
+BitMask to_mask(const cv::Mat& m);
+cv::Mat to_mat(const BitMask& m);
 
 }  // namespace spinewatch::test::synthetic
 
@@ -74,20 +62,7 @@ struct YuyvImage {
   LumaView view() const { return {bytes.data(), kW, kH, 2 * kW, 2}; }
 };
 
-inline YuyvImage to_yuyv(const cv::Mat& luma, const cv::Mat& chroma) {
-  YuyvImage out;
-  out.bytes.resize(static_cast<std::size_t>(2 * kW * kH));
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; x += 2) {
-      std::uint8_t* p = out.bytes.data() + static_cast<std::ptrdiff_t>(y) * 2 * kW + 2 * x;
-      const cv::Vec2b a = chroma.at<cv::Vec2b>(y, x), b = chroma.at<cv::Vec2b>(y, x + 1);
-      p[0] = luma.at<std::uint8_t>(y, x);
-      p[1] = static_cast<std::uint8_t>((a[0] + b[0] + 1) / 2);
-      p[2] = luma.at<std::uint8_t>(y, x + 1);
-      p[3] = static_cast<std::uint8_t>((a[1] + b[1] + 1) / 2);
-    }
-  return out;
-}
+YuyvImage to_yuyv(const cv::Mat& luma, const cv::Mat& chroma);
 
 // A coloured scene: the wall's luma `bg` with chroma `wall_uv`; the person
 // (mask) with luma `person_luma` (negative: the wall's own, clothing that
@@ -104,22 +79,7 @@ struct ColourScene {
   double noise = 2.0, chroma_noise = 1.0;
 };
 
-inline YuyvImage compose_colour(const cv::Mat& bg, const cv::Mat& person, const cv::Mat& shadow,
-                                const ColourScene& scene, std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  cv::Mat luma(kH, kW, CV_8U), chroma(kH, kW, CV_8UC2);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const bool in_person = person.at<std::uint8_t>(y, x) != 0;
-      const double k = !in_person && !shadow.empty() && shadow.at<std::uint8_t>(y, x) ? scene.shadow_factor : 1.0;
-      const double l = in_person && scene.person_luma >= 0 ? scene.person_luma : k * bg.at<std::uint8_t>(y, x);
-      const cv::Vec2b c = in_person ? scene.person_uv : scene.poster.contains({x, y}) ? scene.poster_uv : scene.wall_uv;
-      const double ck = in_person ? 1.0 : k;
-      luma.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(l + scene.noise * n(rng));
-      chroma.at<cv::Vec2b>(y, x) = {cv::saturate_cast<std::uint8_t>(128 + ck * (c[0] - 128) + scene.chroma_noise * n(rng)),
-                                    cv::saturate_cast<std::uint8_t>(128 + ck * (c[1] - 128) + scene.chroma_noise * n(rng))};
-    }
-  return to_yuyv(luma, chroma);
-}
+YuyvImage compose_colour(const cv::Mat& bg, const cv::Mat& person, const cv::Mat& shadow,
+                          const ColourScene& scene, std::mt19937& rng);
 
 }  // namespace spinewatch::test::synthetic
