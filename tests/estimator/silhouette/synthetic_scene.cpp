@@ -70,7 +70,7 @@ YuyvImage to_yuyv(const cv::Mat& luma, const cv::Mat& chroma) {
 }
 
 YuyvImage compose_colour(const cv::Mat& bg, const cv::Mat& person, const cv::Mat& shadow,
-                                const ColourScene& scene, std::mt19937& rng) {
+                         const ColourScene& scene, std::mt19937& rng) {
   SensorNoise n(rng, 1.0);
   cv::Mat luma(kH, kW, CV_8U), chroma(kH, kW, CV_8UC2);
   for (int y = 0; y < kH; ++y)
