@@ -27,7 +27,7 @@ elseif(SPINEWATCH_SANITIZE)
 endif()
 
 # The pure-computation libraries (frames, estimator, the phantom renderer)
-# are compiled at -O2 under the sanitizers, every check kept. At the ASan
+# are compiled at -O2 under the sanitizers (checks below). At the ASan
 # preset's -O1 GCC inlines little of Eigen's fixed-size expressions or of
 # the bit loops, and the tests that drive the estimator over many pairs ran
 # 25–33× slower than in release (PopulationSweep 254 s against 7.6 s,
