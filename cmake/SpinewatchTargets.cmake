@@ -61,8 +61,8 @@ endfunction()
 # anonymous namespaces included (shared constants: estimator/units.hpp).
 # GCC's -Wsubobject-linkage is off there: a class with a member of an
 # anonymous-namespace type is fine in a .cpp, and a batch is a .cpp that
-# includes .cpps. The fuzz preset builds file by file, so every source
-# still compiles on its own.
+# includes .cpps. Only the debug preset builds file by file, where every
+# source must compile on its own (docs/testing.md, "Build speed").
 function(spinewatch_unity_build target)
   if(SPINEWATCH_UNITY)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
