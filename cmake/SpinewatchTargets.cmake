@@ -27,11 +27,14 @@ elseif(SPINEWATCH_SANITIZE)
 endif()
 
 # The pure-computation libraries (frames, estimator, the phantom renderer)
-# are compiled at -O2 under the sanitizers (checks below). At the ASan
-# preset's -O1 GCC inlines little of Eigen's fixed-size expressions or of
-# the bit loops, and the tests that drive the estimator over many pairs ran
-# 25–33× slower than in release (PopulationSweep 254 s against 7.6 s,
-# ExposurePhantom 199 s against 7.0 s): most of CI's time under ASan.
+# are compiled at -O2 under the sanitizers (checks below); the rest of the
+# code at the ASan preset's -Og, which compiles the daemon's Asio/Beast
+# batch in 62 s where -O1 takes 95 s (and -O0 51 s, but running the
+# daemon's and tools' loops slower). At -O1 GCC inlines little of
+# Eigen's fixed-size expressions or of the bit loops, and the tests that
+# drive the estimator over many pairs ran 25–33× slower than in release
+# (PopulationSweep 254 s against 7.6 s, ExposurePhantom 199 s against
+# 7.0 s): most of CI's time under ASan.
 #
 # Two of UBSan's checks are left out there: `null` and `alignment`. GCC
 # emits both on every reference bound and every member function called
