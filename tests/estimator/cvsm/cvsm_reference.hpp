@@ -12,24 +12,9 @@
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/estimator/cvsm/body_model.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
+#include "bit_mask_mat.hpp"
 
 namespace spinewatch::test {
-
-inline cv::Mat to_mat(const BitMask& m) {
-  cv::Mat out(m.height(), m.width(), CV_8U, cv::Scalar(0));
-  for (int y = 0; y < m.height(); ++y)
-    for (int x = 0; x < m.width(); ++x)
-      if (m.get(x, y)) out.at<std::uint8_t>(y, x) = 255;
-  return out;
-}
-
-inline BitMask to_mask(const cv::Mat& m) {
-  BitMask out(m.cols, m.rows);
-  for (int y = 0; y < m.rows; ++y)
-    for (int x = 0; x < m.cols; ++x)
-      if (m.at<std::uint8_t>(y, x)) out.set(x, y);
-  return out;
-}
 
 inline void render_reference(const CameraModel& cam, const BodyModel& model,
                              const std::vector<Eigen::Vector3d>& points, cv::Mat& out) {

@@ -104,20 +104,4 @@ cv::Mat window(const cv::Mat& bg, double drop) {
   return out;
 }
 
-BitMask to_mask(const cv::Mat& m) {
-  BitMask out(m.cols, m.rows);
-  for (int y = 0; y < m.rows; ++y)
-    for (int x = 0; x < m.cols; ++x)
-      if (m.at<std::uint8_t>(y, x)) out.set(x, y);
-  return out;
-}
-
-cv::Mat to_mat(const BitMask& m) {
-  cv::Mat out(m.height(), m.width(), CV_8U, cv::Scalar(0));
-  for (int y = 0; y < m.height(); ++y)
-    for (int x = 0; x < m.width(); ++x)
-      if (m.get(x, y)) out.at<std::uint8_t>(y, x) = 255;
-  return out;
-}
-
 }  // namespace spinewatch::test::synthetic

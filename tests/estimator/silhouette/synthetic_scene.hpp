@@ -15,6 +15,7 @@
 
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/frames/frame.hpp"
+#include "bit_mask_mat.hpp"
 
 namespace spinewatch::test::synthetic {
 
@@ -48,8 +49,8 @@ cv::Mat relit(const cv::Mat& bg, double drop);
 // the left edge, so no single exposure gain describes the change.
 cv::Mat window(const cv::Mat& bg, double drop);
 // A 0/255 image as a mask, and back.
-BitMask to_mask(const cv::Mat& m);
-cv::Mat to_mat(const BitMask& m);
+using test::to_mask;
+using test::to_mat;
 
 }  // namespace spinewatch::test::synthetic
 
