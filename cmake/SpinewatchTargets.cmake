@@ -19,10 +19,10 @@ elseif(SPINEWATCH_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
   # GCC 12's -Wmaybe-uninitialized gives false positives under the
-  # sanitizers' instrumentation: at -O1 it flags libstdc++'s own std::regex
-  # compiler (std::function in _M_disjunction) in a test that only builds
-  # a pattern. The release build keeps the warning, as
-  # an error, for the same code.
+  # sanitizers' instrumentation: optimised, it flags libstdc++'s own
+  # std::regex compiler (std::function in _M_disjunction) in a test that
+  # only builds a pattern. The release build keeps the warning, as an
+  # error, for the same code.
   target_compile_options(spinewatch_warnings INTERFACE -Wno-maybe-uninitialized)
 endif()
 
