@@ -161,7 +161,9 @@ TEST(PipelineMemory, RssStaysFlatOverTenThousandPairs) {
   auto client = test::LineClient::tcp((*publisher)->tcp_port());
   ASSERT_TRUE(client.read_line());
   std::atomic<std::uint64_t> received{0};
-  std::thread reader([&] {
+  // Joined on every path (a failed assertion returns early): the read ends
+  // when the publisher stops or after 10 s without a line.
+  std::jthread reader([&] {
     while (client.read_line(10s)) ++received;
   });
 
@@ -175,14 +177,21 @@ TEST(PipelineMemory, RssStaysFlatOverTenThousandPairs) {
                     },
                     {.pair_queue = 4, .lossless = true});
   pipeline.start();
-  ASSERT_TRUE(test::eventually([&] { return received.load() == kPairs; }, 60s)) << received.load() << " lines received";
+  // The publisher's inbox drops its oldest line when the I/O thread falls
+  // behind (a loaded CI machine did, by 1 649 lines): every line is either
+  // received or counted as dropped, and the subject here is memory.
+  const auto accounted = [&] { return received.load() + (*publisher)->stats().lines_dropped; };
+  ASSERT_TRUE(test::eventually([&] { return accounted() == kPairs; }, 60s))
+      << received.load() << " lines received, " << (*publisher)->stats().lines_dropped << " dropped";
   pipeline.stop();
   (*publisher)->stop();
   reader.join();
+  EXPECT_GT(received.load(), kPairs / 2);
   spdlog::set_level(spdlog::level::info);
   RecordProperty("rss_kb_at_1000", static_cast<int>(rss_at_1000));
   RecordProperty("rss_kb_at_10000", static_cast<int>(rss_at_10000));
-  std::printf("VmRSS after 1000 pairs: %ld kB, after 10000 pairs: %ld kB\n", rss_at_1000, rss_at_10000);
+  std::printf("VmRSS after 1000 pairs: %ld kB, after 10000 pairs: %ld kB (%llu lines dropped from the inbox)\n",
+              rss_at_1000, rss_at_10000, static_cast<unsigned long long>((*publisher)->stats().lines_dropped));
   ASSERT_GT(rss_at_1000, 0);
 #if defined(__SANITIZE_ADDRESS__)
   // ASan's quarantine keeps freed blocks (256 MB by default), so RSS says
