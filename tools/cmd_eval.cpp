@@ -21,6 +21,13 @@ namespace {
 
 nlohmann::json stats_json(const ErrorStats& s) { return {{"mean", s.mean}, {"p95", s.p95}, {"max", s.max}, {"n", s.count}}; }
 
+nlohmann::json angle_json(const TrunkAngleScore& a) {
+  nlohmann::json j = stats_json(a.error);
+  j["bent_frames"] = a.bent_frames;
+  j["wrong_side"] = a.wrong_side;
+  return j;
+}
+
 nlohmann::json evaluation_json(const Evaluation& e) {
   nlohmann::json levels = nlohmann::json::object();
   for (std::size_t i = 0; i < kVertebraCount; ++i) levels[std::string(kVertebraNames[i])] = stats_json(e.per_level[i]);
@@ -31,6 +38,7 @@ nlohmann::json evaluation_json(const Evaluation& e) {
           {"twist_deg", stats_json(e.twist)},               {"twisted_frames", e.twisted_frames},
           {"twisted_published_untwisted", e.twisted_published_untwisted},
           {"twist_unresolved_frames", e.twist_unresolved_frames},
+          {"inclination_deg", angle_json(e.inclination)},  {"side_bend_deg", angle_json(e.side_bend)},
           {"per_level", levels}};
 }
 

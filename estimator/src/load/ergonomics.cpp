@@ -63,6 +63,20 @@ TrunkAngles trunk_angles(const SpinePose& pose, const SpinePose& neutral) {
   return a;
 }
 
+Eigen::Vector3d facing_of(const SpinePose& pose) {
+  Eigen::Vector3d anterior = pose[kWaistIndex].q * Eigen::Vector3d::UnitX();
+  anterior.y() = 0;
+  // L5 tipped past the vertical (never in a posture) would leave no direction; keep +X then.
+  return anterior.norm() > 1e-6 ? Eigen::Vector3d(anterior.normalized()) : Eigen::Vector3d::UnitX();
+}
+
+TrunkTilt trunk_tilt(const SpinePose& pose, const Eigen::Vector3d& facing) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d right = facing.cross(up);  // +X × +Y = +Z, the subject's right at heading 0
+  const Eigen::Vector3d d = (pose[kNeckIndex].body_center - pose[kWaistIndex].body_center).normalized();
+  return {std::atan2(d.dot(facing), d.dot(up)) * kDegPerRad, std::asin(std::clamp(d.dot(right), -1.0, 1.0)) * kDegPerRad};
+}
+
 int reba_trunk_score(const TrunkAngles& a, const ErgonomicLimits& l) {
   int score;
   if (std::abs(a.inclination_deg) <= l.reba_upright_deg) score = 1;

@@ -158,6 +158,42 @@ TEST(Ergonomics, LateralBendConditionalUntilTwiceAMinute) {
   EXPECT_EQ(severity(e, "iso11226_axial_twist"), "conditional");
 }
 
+SpinePose turned(SpinePose pose, double heading_deg) {
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(heading_deg * M_PI / 180, Eigen::Vector3d::UnitY()));
+  for (auto& v : pose) {
+    v.body_center = turn * v.body_center;
+    v.q = turn * v.q;
+  }
+  return pose;
+}
+
+// The trunk's tilt is measured in the frame the subject faces: a forward
+// bend is an inclination and a side bend a side bend whichever way he
+// stands, with the signs of the subject (forwards, to his right).
+TEST(TrunkTilt, ForwardAndSideBendsAtAnyHeading) {
+  for (const double heading : {0.0, 30.0, 90.0, 180.0, 250.0, -60.0}) {
+    SCOPED_TRACE(heading);
+    const auto tilt = [&](const SpinePose& p) {
+      const SpinePose t = turned(p, heading);
+      return trunk_tilt(t, facing_of(t));
+    };
+    const TrunkTilt upright = tilt(tilted(0)), forward = tilt(tilted(30)), back = tilt(tilted(-10));
+    const TrunkTilt right = tilt(tilted(0, 15)), left = tilt(tilted(0, -15));
+    EXPECT_NEAR(upright.side_bend_deg, 0, 1e-6);
+    EXPECT_NEAR(forward.inclination_deg - upright.inclination_deg, 30, 1e-6);
+    EXPECT_NEAR(back.inclination_deg - upright.inclination_deg, -10, 1e-6);
+    EXPECT_NEAR(forward.side_bend_deg, 0, 1e-6);
+    EXPECT_NEAR(right.side_bend_deg, 15, 0.05);  // the neutral line leans back a little
+    EXPECT_NEAR(left.side_bend_deg, -15, 0.05);
+    EXPECT_NEAR(right.inclination_deg, upright.inclination_deg, 0.1);
+  }
+  // Facing is where L5's front points, laid flat: turned 90° the subject faces −Z.
+  const Eigen::Vector3d facing = facing_of(turned(tilted(40), 90));
+  EXPECT_NEAR(facing.x(), 0, 1e-9);
+  EXPECT_NEAR(facing.y(), 0, 1e-9);
+  EXPECT_NEAR(facing.z(), -1, 1e-9);
+}
+
 TEST(Ergonomics, NioshLimitsOnLumbarCompression) {
   const SpinePose neutral = tilted(0);
   ErgonomicsMonitor m(neutral);

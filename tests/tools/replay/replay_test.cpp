@@ -166,6 +166,37 @@ TEST(Eval, TruthAgainstItselfIsExact) {
   EXPECT_NEAR(j["vertebrae"]["max"].get<double>(), 0.0, 0.01);
   EXPECT_NEAR(j["twist_deg"]["max"].get<double>(), 0.0, 0.01);
   EXPECT_EQ(j["twisted_published_untwisted"], 0);
+  EXPECT_NEAR(j["side_bend_deg"]["max"].get<double>(), 0.0, 1e-3);
+  EXPECT_NEAR(j["inclination_deg"]["max"].get<double>(), 0.0, 1e-3);
+  EXPECT_GT(j["side_bend_deg"]["bent_frames"].get<int>(), 10);  // bent 25° to the left at the middle
+  EXPECT_EQ(j["side_bend_deg"]["wrong_side"], 0);
+}
+
+// The side bend mirrored (every body centre reflected through the subject's
+// sagittal plane): each frame the truth bends 5° or more is on the wrong side,
+// and the inclination is untouched.
+TEST(Eval, ASideBendMirroredIsOnTheWrongSide) {
+  test::TempDir dir;
+  auto r = test::run_cli("phantom --subject generic --scenario lateral_left --frames 30 --out " + (dir / "rec").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string mirrored;
+  for (auto line : read_ndjson(dir / "rec/ground_truth.ndjson")) {
+    if (line["vertebrae"].is_array())
+      for (auto& v : line["vertebrae"]) v["body_center"][2] = -v["body_center"][2].get<double>();
+    for (const char* key : {"neck", "waist"})
+      if (line[key].is_array()) line[key][2] = -line[key][2].get<double>();
+    mirrored += line.dump() + "\n";
+  }
+  test::write_file(dir / "mirrored.ndjson", mirrored);
+  auto e = test::run_cli("eval --json --recording " + (dir / "rec").string() + " --estimate " +
+                         (dir / "mirrored.ndjson").string() + " 2>/dev/null");
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const auto j = nlohmann::json::parse(e.output);
+  const int bent = j["side_bend_deg"]["bent_frames"].get<int>();
+  EXPECT_GT(bent, 10);
+  EXPECT_EQ(j["side_bend_deg"]["wrong_side"], bent);
+  EXPECT_GT(j["side_bend_deg"]["max"].get<double>(), 2 * 5.0);  // twice a bend of 5° or more
+  EXPECT_NEAR(j["inclination_deg"]["max"].get<double>(), 0.0, 1e-3);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -32,6 +33,13 @@ double t1_l5_twist_deg(const SpinePose& p) {
   return 2.0 * std::atan2(rel.y(), rel.w()) * 180.0 / M_PI;
 }
 
+void add_angle(std::vector<double>& errors, TrunkAngleScore& score, double published, double truth) {
+  errors.push_back(std::abs(published - truth));
+  if (std::abs(truth) < kTrunkBentDeg) return;
+  ++score.bent_frames;
+  score.wrong_side += published * truth < 0;
+}
+
 }  // namespace
 
 Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Posture>& truth, bool include_init) {
@@ -39,7 +47,7 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
   for (const auto& p : estimate) by_seq[p.seq] = &p;
 
   Evaluation e;
-  std::vector<double> neck, waist, all, twist;
+  std::vector<double> neck, waist, all, twist, inclination, side_bend;
   std::array<std::vector<double>, 3> neck_axis, waist_axis;
   std::array<std::vector<double>, kVertebraCount> level;
   std::array<std::array<std::vector<double>, 3>, kVertebraCount> level_axis;
@@ -75,6 +83,10 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
         ++e.twisted_frames;
         e.twisted_published_untwisted += !unresolved && std::abs(published) <= 10;
       }
+      const Eigen::Vector3d facing = facing_of(*t.vertebrae);
+      const TrunkTilt true_tilt = trunk_tilt(*t.vertebrae, facing), tilt = trunk_tilt(*p->vertebrae, facing);
+      add_angle(inclination, e.inclination, tilt.inclination_deg, true_tilt.inclination_deg);
+      add_angle(side_bend, e.side_bend, tilt.side_bend_deg, true_tilt.side_bend_deg);
       for (std::size_t i = 0; i < kVertebraCount; ++i) {
         const Eigen::Vector3d d = (*p->vertebrae)[i].body_center - (*t.vertebrae)[i].body_center;
         level[i].push_back(d.norm());
@@ -87,6 +99,8 @@ Evaluation evaluate(const std::vector<Posture>& estimate, const std::vector<Post
   e.waist = summarise(waist);
   e.all_vertebrae = summarise(all);
   e.twist = summarise(twist);
+  e.inclination.error = summarise(inclination);
+  e.side_bend.error = summarise(side_bend);
   for (int a = 0; a < 3; ++a) {
     e.neck_axis[a] = summarise(neck_axis[a]);
     e.waist_axis[a] = summarise(waist_axis[a]);
@@ -113,6 +127,10 @@ std::string format_evaluation(const Evaluation& e) {
                      e.twist.p95, e.twist.max);
   out += fmt::format("true twist 15 deg or more: {} frames, {} published within 10 deg unflagged; {} frames flagged twist_unresolved\n",
                      e.twisted_frames, e.twisted_published_untwisted, e.twist_unresolved_frames);
+  for (auto [name, a] : {std::pair{"inclination", &e.inclination}, std::pair{"side bend", &e.side_bend}})
+    out += fmt::format("  {:<11} {:>7.1f} {:>8.1f} {:>8.1f}   (trunk, degrees); true {:.0f} deg or more: {} frames, {} "
+                       "on the wrong side\n",
+                       name, a->error.mean, a->error.p95, a->error.max, kTrunkBentDeg, a->bent_frames, a->wrong_side);
   const char* axes[] = {"x (ant)", "y (sup)", "z (right)"};
   out += "per axis |Δ|     neck mean/p95      waist mean/p95\n";
   for (int a = 0; a < 3; ++a)

@@ -32,6 +32,19 @@ struct TrunkAngles {
   double inclination_deg = 0, lateral_deg = 0, twist_deg = 0;
 };
 TrunkAngles trunk_angles(const SpinePose& pose, const SpinePose& neutral);
+
+// The L5→T1 line's tilt from the world's vertical, degrees, in the frame
+// the subject faces (`facing`: a horizontal unit vector, the subject's
+// anterior): inclination forwards (+) in the sagittal plane, side bend to
+// the subject's right (+) in the frontal plane. Absolute, not against a
+// neutral posture, so truth and estimate are measured alike.
+struct TrunkTilt {
+  double inclination_deg = 0, side_bend_deg = 0;
+};
+TrunkTilt trunk_tilt(const SpinePose& pose, const Eigen::Vector3d& facing);
+// Where a posture faces: L5's anterior (+X) axis laid into the horizontal plane.
+Eigen::Vector3d facing_of(const SpinePose& pose);
+
 int reba_trunk_score(const TrunkAngles& a, const ErgonomicLimits& limits);
 
 class ErgonomicsMonitor {

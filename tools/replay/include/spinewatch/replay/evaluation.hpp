@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "spinewatch/estimator/load/ergonomics.hpp"
 #include "spinewatch/estimator/posture.hpp"
 
 namespace spinewatch {
@@ -15,6 +16,15 @@ struct ErrorStats {
   double mean = 0, p95 = 0, max = 0;
 };
 ErrorStats summarise(std::vector<double> values);
+
+// One trunk angle over the estimated frames: |published − true| in degrees;
+// of the frames whose true angle is at least kTrunkBentDeg either way, how
+// many the estimate bent the other way (any amount): the wrong side.
+struct TrunkAngleScore {
+  ErrorStats error;
+  std::size_t bent_frames = 0, wrong_side = 0;
+};
+inline constexpr double kTrunkBentDeg = 5.0;
 
 struct Evaluation {
   std::size_t truth_frames = 0;      // frames where the truth has a posture
@@ -32,6 +42,9 @@ struct Evaluation {
   // the twist_unresolved flag (a confident untwisted posture).
   ErrorStats twist;
   std::size_t twisted_frames = 0, twisted_published_untwisted = 0, twist_unresolved_frames = 0;
+  // Trunk inclination and side bend (trunk_tilt), both postures measured in
+  // the frame the truth faces, over the estimated frames with vertebrae.
+  TrunkAngleScore inclination, side_bend;
 };
 
 // `include_init`: count provisional postures of the init state as estimates.
