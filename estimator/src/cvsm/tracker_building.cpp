@@ -66,6 +66,13 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
   // whose front the views cannot tell from its back stays init.
   if (init_frames >= opt.subject_frames && heading_resolved) {
     built_silhouette_px = *r.fit.silhouette_frontal_px + *r.fit.silhouette_lateral_px;
+    // The pair that completes the model gets the arms a tracked pair gets
+    // where the fixed fit leaves the arms' evidence (raised while the model
+    // was built): without them the trunk leans to the arms' outline.
+    if (opt.limbs == LimbMode::Auto) {
+      TwistCheck twist;
+      try_arms(r, twist, pose, false, flag, frontal, lateral);
+    }
     r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
     phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
     withhold_unseen_pelvis(frontal, lateral, r);

@@ -85,7 +85,7 @@ TEST(BaselineFit, ATinyRunPrintsTheRowOfBothModesFromItsPostures) {
   std::stringstream in(text);
   for (std::string line; std::getline(in, line);)
     if (line.rfind("| ", 0) == 0) rows.push_back(split_row(line));
-  ASSERT_EQ(rows.size(), 2u) << "a header and the one row:\n" << text;
+  ASSERT_EQ(rows.size(), 4u) << "a header and the one row, twice (the trunk angles' table):\n" << text;
   const std::vector<std::string> per_mode = {"neck", "waist", "vertebrae", "tracking / init / lost %",
                                              "worst tracking (> 50 mm)"};
   ASSERT_EQ(rows[0].size(), 11u) << text;
@@ -124,6 +124,30 @@ TEST(BaselineFit, ATinyRunPrintsTheRowOfBothModesFromItsPostures) {
     ASSERT_TRUE(std::regex_match(row[c + 4], w, worst)) << row[c + 4];
     EXPECT_NEAR(std::stod(w[1]), truth.worst, 0.51);
     EXPECT_EQ(std::stoi(w[2]), truth.wrong);
+  }
+
+  // The trunk angles' table: per mode inclination and side bend, each
+  // "mean / max; wrong side of bent", as eval's JSON of the same replay says.
+  ASSERT_EQ(rows[2].size(), 5u) << text;
+  EXPECT_EQ(rows[2][1], "fixed: inclination: mean / max error °; wrong side of bent");
+  EXPECT_EQ(rows[2][4], "articulated: side bend: mean / max error °; wrong side of bent");
+  ASSERT_EQ(rows[3].size(), 5u) << text;
+  EXPECT_EQ(rows[3][0], "`carry`");
+  const std::regex angle(R"((\d+\.\d) / (\d+\.\d); (\d+) of (\d+))");
+  for (int m = 0; m < 2; ++m) {
+    const auto eval = nlohmann::json::parse(
+        test::read_file(dir / "carry" / std::to_string(kSubject) / (modes[m] + ".eval.json")));
+    const char* keys[] = {"inclination_deg", "side_bend_deg"};
+    for (int k = 0; k < 2; ++k) {
+      SCOPED_TRACE(modes[m] + " " + keys[k]);
+      std::smatch a;
+      ASSERT_TRUE(std::regex_match(rows[3][1 + 2 * m + k], a, angle)) << rows[3][1 + 2 * m + k];
+      const auto& e = eval.at(keys[k]);
+      EXPECT_NEAR(std::stod(a[1]), e.at("mean").get<double>(), 0.051);
+      EXPECT_NEAR(std::stod(a[2]), e.at("max").get<double>(), 0.051);
+      EXPECT_EQ(std::stoi(a[3]), e.at("wrong_side").get<int>());
+      EXPECT_EQ(std::stoi(a[4]), e.at("bent_frames").get<int>());
+    }
   }
 }
 
