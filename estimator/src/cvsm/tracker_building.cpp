@@ -70,8 +70,10 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     // where the fixed fit leaves the arms' evidence (raised while the model
     // was built): without them the trunk leans to the arms' outline.
     if (opt.limbs == LimbMode::Auto) {
-      TwistCheck twist;
-      try_arms(r, twist, pose, false, flag, frontal, lateral);
+      // The twist's sign is not judged on this pair, as it never was on
+      // the building's last pair: try_arms' check is not used here.
+      TwistCheck unused;
+      try_arms(r, unused, pose, false, flag, frontal, lateral);
     }
     r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
     phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
