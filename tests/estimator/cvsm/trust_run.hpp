@@ -28,14 +28,18 @@ struct TrustRun {
   double waist_mean() const { return tracking > 0 ? waist_sum_mm / tracking : 0.0; }
 };
 using TrackedFrame = std::function<void(const phantom::PhantomFrame& frame, const CvsmResult& result)>;
+// Changes a rendered frame before it is fitted (index: the frame's).
+using FrameEdit = std::function<void(int index, phantom::PhantomFrame& frame)>;
 
 // The render of `po` (its station geometry, heading, desk …) fitted pair by
 // pair from its silhouettes alone; `each` also sees every tracking pair,
 // `each_fitted` every person pair the fit estimated (tracking, init, and
 // lost pairs the fit went on from, e.g. lower_body_hidden).
 // `what` names the run in the line it prints.
+// `edit`, where given, changes each frame before it is fitted.
 inline TrustRun track_for_trust(const phantom::PhantomOptions& po, const CvsmOptions& options, const std::string& what,
-                                const TrackedFrame& each = {}, const TrackedFrame& each_fitted = {}) {
+                                const TrackedFrame& each = {}, const TrackedFrame& each_fitted = {},
+                                const FrameEdit& edit = {}) {
   TrustRun run;
   auto seq = phantom::PhantomSequence::create(po);
   EXPECT_TRUE(seq.ok()) << seq.error().message;
@@ -44,7 +48,8 @@ inline TrustRun track_for_trust(const phantom::PhantomOptions& po, const CvsmOpt
   SilhouetteExtractor frontal{SilhouetteOptions{}}, lateral{SilhouetteOptions{}};
   CvsmTracker tracker(seq->options().rig, options);
   for (int i = 0; i < seq->frame_count(); ++i) {
-    const phantom::PhantomFrame f = seq->render(i);
+    phantom::PhantomFrame f = seq->render(i);
+    if (edit) edit(i, f);
     const CvsmResult r = tracker.track(frontal.extract(view_of(f.luma[0])), lateral.extract(view_of(f.luma[1])));
     if (!f.truth.vertebrae) continue;  // an empty frame
     ++run.person_frames;

@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "luma_png.hpp"
 #include "spinewatch/phantom/phantom.hpp"
@@ -109,6 +110,26 @@ TEST(PhantomRender, EmptyFramesShowTheSceneAndAreLost) {
   const PhantomFrame person = sequence.render(4);
   EXPECT_EQ(person.truth.state, TrackingState::Tracking);
   EXPECT_GT(cv::countNonZero(person.person[0]), 1000);
+}
+
+// The person changes the frame only where he is, and one pixel around (the
+// lens softens his outline): a cluttered room's edges elsewhere are the
+// stored background's pixels exactly, or they would join the silhouette.
+TEST(PhantomRender, TheRoomDoesNotChangeWhenThePersonWalksIn) {
+  PhantomOptions options;
+  options.scenario = "flexion";
+  options.frames = 20;
+  options.room = RoomKind::Cluttered;
+  const PhantomSequence sequence = PhantomSequence::create(options).value();
+  const PhantomFrame frame = sequence.render(options.empty_frames + 10);
+  for (View view : kViews) {
+    const int v = static_cast<int>(view);
+    cv::Mat near;
+    cv::dilate(frame.person[v] > 0, near, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    const cv::Mat changed = frame.clean[v] != sequence.background(view);
+    EXPECT_EQ(cv::countNonZero(changed & ~near), 0) << int(view);
+    EXPECT_GT(cv::countNonZero(changed & near), 2000) << int(view);
+  }
 }
 
 TEST(PhantomRender, NeckAndWaistLieInsideThePersonInBothViews) {

@@ -18,6 +18,9 @@ constexpr double kSubpixel = 1 << kShift;
 // The wall stands this far behind the subject (the world origin), seen from
 // either camera; the floor is y = 0.
 constexpr double kWallBehindMm = 1500;
+// The lens: real lenses are not perfectly sharp (compose()).
+const cv::Size kLensKernel{3, 3};
+constexpr double kLensSigma = 0.7;
 
 cv::Mat random_field(std::mt19937& rng, cv::Size size) {
   cv::Mat field(size, CV_32F);
@@ -205,10 +208,16 @@ cv::Mat ViewRenderer::compose(const cv::Mat& layer, bool shadow, bool camouflage
     matched.copyTo(s.person, clothing);
   }
   s.person.copyTo(background, mask);
-  // Real lenses are not perfectly sharp: soften the outline a little.
-  cv::GaussianBlur(background, s.blurred, {3, 3}, 0.7);
+  // The lens softens the person's outline a little (the outline is drawn
+  // exact). Only within one pixel of the person: the room, shadowed or
+  // not, stays the stored background's pixels, as in the empty frames.
+  // (The whole frame blurred, every edge of a cluttered room moved when
+  // someone walked in and joined the silhouette.)
+  cv::GaussianBlur(background, s.blurred, kLensKernel, kLensSigma);
+  cv::dilate(mask, s.reach, cv::getStructuringElement(cv::MORPH_RECT, kLensKernel));
+  s.blurred.copyTo(background, s.reach);
   cv::Mat out;
-  s.blurred.convertTo(out, CV_8U);
+  background.convertTo(out, CV_8U);
   return out;
 }
 
@@ -242,7 +251,11 @@ cv::Mat ViewRenderer::compose_chroma(const cv::Mat& layer, bool shadow) const {
   for (int y = 0; y < scene.rows; ++y)
     for (int x = 0; x < scene.cols; ++x)
       if (const std::uint8_t s = layer.at<std::uint8_t>(y, x); s != 0) scene.at<cv::Vec2f>(y, x) = kPartChroma[s];
-  cv::GaussianBlur(scene, scene, {3, 3}, 0.7);
+  // As compose(): the outline softened, the room as it was.
+  cv::Mat blurred, reach;
+  cv::GaussianBlur(scene, blurred, kLensKernel, kLensSigma);
+  cv::dilate(mask, reach, cv::getStructuringElement(cv::MORPH_RECT, kLensKernel));
+  blurred.copyTo(scene, reach);
   return scene;
 }
 

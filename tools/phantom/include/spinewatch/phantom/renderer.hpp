@@ -54,6 +54,7 @@ class ViewRenderer {
   // long phantom run under the sanitizers (docs/performance.md).
   struct Scratch {
     cv::Mat background, shade, weight, blurred, person;
+    cv::Mat reach;  // CV_8U: within the lens blur's reach of the person
     cv::Mat part_depth;  // CV_32F over furniture_box_: the depth of the part drawn at each pixel
   };
   mutable Scratch scratch_;
