@@ -29,6 +29,7 @@ Result<ErgonomicLimits> parse_ergonomic_limits(std::string_view text, std::strin
                                      {"inclination_max_hold_s", &l.inclination_max_hold_s, 0, 86400},
                                      {"extension_margin_deg", &l.extension_margin_deg, 0, 30},
                                      {"bend_twist_deg", &l.bend_twist_deg, 0, 90},
+                                     {"bend_twist_hysteresis_deg", &l.bend_twist_hysteresis_deg, 0, 30},
                                      {"bend_twist_per_minute", &per_minute, 1, 1000},
                                      {"niosh_action_limit_n", &l.niosh_action_limit_n, 0, 1e5},
                                      {"niosh_maximum_n", &l.niosh_maximum_n, 0, 1e5},
@@ -39,7 +40,14 @@ Result<ErgonomicLimits> parse_ergonomic_limits(std::string_view text, std::strin
   l.bend_twist_per_minute = int(std::lround(per_minute));
   if (l.inclination_max_deg < l.inclination_ok_deg)
     return Error{fmt::format("{}: limits.inclination_max_deg: below inclination_ok_deg", source)};
+  if (l.bend_twist_hysteresis_deg > l.bend_twist_deg)
+    return Error{fmt::format("{}: limits.bend_twist_hysteresis_deg: above bend_twist_deg", source)};
   return l;
+}
+
+bool within_bend_twist_entry(bool was_in, double value_deg, const ErgonomicLimits& limits) {
+  const double magnitude = std::abs(value_deg);
+  return magnitude > limits.bend_twist_deg || (was_in && magnitude > limits.bend_twist_deg - limits.bend_twist_hysteresis_deg);
 }
 
 const ErgonomicLimits& default_ergonomic_limits() {
@@ -101,8 +109,10 @@ std::string ErgonomicsMonitor::bend_twist_severity(const std::string& rule, doub
   auto& entries = entries_[rule];
   while (!entries.empty() && (t_ns - entries.front() >= kMinuteNs || t_ns < entries.front())) entries.pop_front();
   const bool over = std::abs(value_deg) > limits_.bend_twist_deg;
-  if (over && !over_[rule]) entries.push_back(t_ns);
-  over_[rule] = over;
+  bool& in_entry = in_entry_[rule];
+  const bool in_now = within_bend_twist_entry(in_entry, value_deg, limits_);
+  if (in_now && !in_entry) entries.push_back(t_ns);
+  in_entry = in_now;
   if (!over) return "ok";
   return int(entries.size()) >= limits_.bend_twist_per_minute ? "not_acceptable" : "conditional";
 }

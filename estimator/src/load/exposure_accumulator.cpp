@@ -28,6 +28,8 @@ ExposureAccumulator::Sample ExposureAccumulator::sample_of(const Posture& p) con
     s.kind = Kind::Tracked;
     s.inclination_deg = e.trunk_inclination_deg;
     s.zone = inclination_zone(e.trunk_inclination_deg, l);
+    s.lateral_deg = e.lateral_bend_deg;
+    s.twist_deg = e.twist_deg;
     s.lateral_over = std::abs(e.lateral_bend_deg) > l.bend_twist_deg;
     s.twist_over = std::abs(e.twist_deg) > l.bend_twist_deg;
     s.twist_unresolved = p.fit.flag == kTwistUnresolvedFlag;
@@ -61,7 +63,7 @@ void ExposureAccumulator::open(const Sample& first) {
   }
   interval_end_ns_ = window_end(first.t_ns);
   hold_start_ns_.reset();
-  lateral_over_ = twist_over_ = false;
+  lateral_in_entry_ = twist_in_entry_ = false;
 }
 
 std::vector<ExposureSummary> ExposureAccumulator::add(const Posture& posture) {
@@ -123,13 +125,16 @@ void ExposureAccumulator::integrate(Sample& s, std::int64_t a, std::int64_t b) {
     s.started = true;
     const bool tracked = s.kind == Kind::Tracked;
     if (tracked) {
+      const ErgonomicLimits& l = options_.limits;
+      const bool lateral_in = within_bend_twist_entry(lateral_in_entry_, s.lateral_deg, l);
+      const bool twist_in = within_bend_twist_entry(twist_in_entry_, s.twist_deg, l);
       for (Window* w : {&interval_, &shift_}) {
-        if (s.lateral_over && !lateral_over_) ++w->summary.lateral_bend.entries;
-        if (s.twist_over && !twist_over_) ++w->summary.axial_twist.entries;
+        if (lateral_in && !lateral_in_entry_) ++w->summary.lateral_bend.entries;
+        if (twist_in && !twist_in_entry_) ++w->summary.axial_twist.entries;
       }
-      // Untracked postures leave the over/within state as it was: not known.
-      lateral_over_ = s.lateral_over;
-      twist_over_ = s.twist_over;
+      // Untracked postures leave the entry state as it was: not known.
+      lateral_in_entry_ = lateral_in;
+      twist_in_entry_ = twist_in;
     }
     if (tracked && s.zone == InclinationZone::Flexed) {
       if (!hold_start_ns_) hold_start_ns_ = s.t_ns;

@@ -181,6 +181,25 @@ TEST(ExposureAccumulator, LateralBendAndTwistEntriesAndTimeBeyondTenDegrees) {
   EXPECT_NEAR(s.lateral_bend.per_minute(s.tracked_s), 3 * 60 / 0.9, 1e-9);
 }
 
+// A twist held near the limit, fitted a step either side of it from pair to
+// pair, is one entry (bend_twist_hysteresis_deg, 2°): back below 8° it ends.
+// The time beyond counts the pairs beyond 10° only.
+TEST(ExposureAccumulator, ATwistHeldAtTheLimitIsOneEntry) {
+  const std::vector<Posture> stream = {tracked(0, 0, 0, 0),     tracked(100, 0, 0, 11), tracked(200, 0, 0, 9),
+                                       tracked(300, 0, 0, 11),  tracked(400, 0, 0, 9),  tracked(500, 0, 0, 7),
+                                       tracked(600, 0, 0, -11), tracked(700, 0, 0, 0)};
+  ExposureAccumulator held(every(60'000));
+  const ExposureSummary s = run(held, stream)[0];
+  EXPECT_EQ(s.axial_twist.entries, 2u);
+  EXPECT_NEAR(s.axial_twist.over_s, 0.3, kEps);
+  ExposureOptions no_hysteresis = every(60'000);
+  no_hysteresis.limits.bend_twist_hysteresis_deg = 0;
+  ExposureAccumulator each_step(no_hysteresis);
+  const ExposureSummary t = run(each_step, stream)[0];
+  EXPECT_EQ(t.axial_twist.entries, 3u);
+  EXPECT_NEAR(t.axial_twist.over_s, 0.3, kEps);
+}
+
 // A twist the fit could not resolve (its sign unknown) is counted by its
 // magnitude like the rest, and its time apart, so the summary says what
 // axial_twist rests on.

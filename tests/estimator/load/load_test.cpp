@@ -158,6 +158,51 @@ TEST(Ergonomics, LateralBendConditionalUntilTwiceAMinute) {
   EXPECT_EQ(severity(e, "iso11226_axial_twist"), "conditional");
 }
 
+// A side bend held near the 10° limit and estimated a step either side of
+// it is one entry: it ends only 2° below the limit (bend_twist_hysteresis_deg).
+// Without the hysteresis each step back over the limit is a new entry and,
+// twice in a minute, not acceptable.
+TEST(Ergonomics, ABendHeldAtTheLimitIsOneEntry) {
+  const SpinePose neutral = tilted(0);
+  auto last_severity = [&](const ErgonomicLimits& limits, std::initializer_list<double> lateral_deg) {
+    ErgonomicsMonitor m(neutral, limits);
+    std::int64_t t = 0;
+    Ergonomics e;
+    for (double d : lateral_deg) e = m.update(tilted(0, d), {}, t += kSecond);
+    return severity(e, "iso11226_lateral_bend");
+  };
+  ErgonomicLimits limits = default_ergonomic_limits();
+  EXPECT_EQ(limits.bend_twist_hysteresis_deg, 2.0);
+  EXPECT_EQ(last_severity(limits, {0, 11, 9, 11, 9, 11}), "conditional");
+  EXPECT_EQ(last_severity(limits, {0, 11, 7, 11}), "not_acceptable");  // back below 8°: a new entry
+  limits.bend_twist_hysteresis_deg = 0;
+  EXPECT_EQ(last_severity(limits, {0, 11, 9, 11}), "not_acceptable");
+}
+
+// config/segments.toml with its hysteresis set to `value`.
+std::string segments_with_hysteresis(const std::string& value) {
+  std::string text(segments_toml());
+  const std::string key = "bend_twist_hysteresis_deg = 2.0";
+  const std::size_t at = text.find(key);
+  EXPECT_NE(at, std::string::npos);
+  if (at != std::string::npos) text.replace(at, key.size(), "bend_twist_hysteresis_deg = " + value);
+  return text;
+}
+
+TEST(Ergonomics, LimitsParsedWithTheirErrorsNamed) {
+  auto parsed = parse_ergonomic_limits(segments_with_hysteresis("3.5"), "lim.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_EQ(parsed->bend_twist_hysteresis_deg, 3.5);
+  auto above = parse_ergonomic_limits(segments_with_hysteresis("12"), "lim.toml");
+  ASSERT_FALSE(above);
+  EXPECT_NE(above.error().message.find("lim.toml: limits.bend_twist_hysteresis_deg: above bend_twist_deg"),
+            std::string::npos)
+      << above.error().message;
+  auto negative = parse_ergonomic_limits(segments_with_hysteresis("-1"), "lim.toml");
+  ASSERT_FALSE(negative);
+  EXPECT_NE(negative.error().message.find("bend_twist_hysteresis_deg"), std::string::npos) << negative.error().message;
+}
+
 SpinePose turned(SpinePose pose, double heading_deg) {
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(heading_deg * M_PI / 180, Eigen::Vector3d::UnitY()));
   for (auto& v : pose) {

@@ -17,11 +17,19 @@ struct ErgonomicLimits {
   double inclination_ok_deg = 20, inclination_max_deg = 60, inclination_max_hold_s = 60;
   double extension_margin_deg = 2;
   double bend_twist_deg = 10;
+  // An entry beyond bend_twist_deg ends only below the limit by this much:
+  // an angle held near the limit, estimated a step either side of it from
+  // pair to pair, is one entry, not one per step.
+  double bend_twist_hysteresis_deg = 2;
   int bend_twist_per_minute = 2;
   double niosh_action_limit_n = 3400, niosh_maximum_n = 6400;
   double reba_upright_deg = 5, reba_twist_side_deg = 5;
 };
 Result<ErgonomicLimits> parse_ergonomic_limits(std::string_view toml_text, std::string_view source);
+// Whether a side bend or twist of `value_deg` is within an entry beyond the
+// limit, given whether the previous tracked posture was (`was_in`): beyond
+// bend_twist_deg it enters; it leaves at bend_twist_deg − hysteresis.
+bool within_bend_twist_entry(bool was_in, double value_deg, const ErgonomicLimits& limits);
 const ErgonomicLimits& default_ergonomic_limits();
 
 // Trunk angles of a posture against the subject's neutral posture, degrees:
@@ -67,7 +75,7 @@ class ErgonomicsMonitor {
   SpinePose neutral_;
   ErgonomicLimits limits_;
   std::map<std::string, Held> held_;
-  std::map<std::string, bool> over_;                       // bend/twist currently above the limit
+  std::map<std::string, bool> in_entry_;                   // bend/twist within an entry (within_bend_twist_entry)
   std::map<std::string, std::deque<std::int64_t>> entries_;  // times it went above, last minute
 };
 

@@ -49,7 +49,8 @@ class ExposureAccumulator {
     Kind kind = Kind::Init;
     InclinationZone zone = InclinationZone::Upright;
     double inclination_deg = 0;
-    bool lateral_over = false, twist_over = false;
+    double lateral_deg = 0, twist_deg = 0;
+    bool lateral_over = false, twist_over = false;  // beyond the limit (time beyond)
     bool twist_unresolved = false;  // fit.flag "twist_unresolved"
     int reba = 1, rula = 1;
     std::optional<double> compression_n;
@@ -77,7 +78,7 @@ class ExposureAccumulator {
   std::int64_t interval_end_ns_ = 0;
   // State carried across samples.
   std::optional<std::int64_t> hold_start_ns_;  // the running 20–60° hold
-  bool lateral_over_ = false, twist_over_ = false;
+  bool lateral_in_entry_ = false, twist_in_entry_ = false;  // within_bend_twist_entry
 };
 
 }  // namespace spinewatch
