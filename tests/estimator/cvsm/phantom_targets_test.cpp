@@ -61,6 +61,7 @@ struct TargetRow {
   const char* scenario;
   std::optional<phantom::StationGeometry> station;
   double heading_deg = 0;
+  phantom::RoomKind room = phantom::RoomKind::Plain;
 };
 
 // The default station with one of its settings changed by `set`.
@@ -87,6 +88,7 @@ TEST_P(PhantomTargets, NinetyPercentEstimatedAndNoConfidentlyWrongPosture) {
     po.frames = kPersonFrames;
     po.station = row.station;
     po.heading_deg = row.heading_deg;
+    po.room = row.room;
     TrunkAngleCheck angles;
     const test::TrustRun run = test::track_for_trust(
         po, CvsmOptions{}, std::string(row.name) + " " + std::to_string(id),
@@ -122,6 +124,7 @@ const TargetRow kRows[] = {
     {"lateral_right_roll_25", "lateral_right", changed_station([](auto& g) { g.roll_deg = 25; })},
     {"lateral_right_pair_angle_45", "lateral_right", changed_station([](auto& g) { g.pair_angle_deg = 45; })},
     {"camera_height_1600", "flexion", changed_station([](auto& g) { g.height_mm = 1600; })},
+    {"room_cluttered", "flexion", std::nullopt, 0, phantom::RoomKind::Cluttered},
 };
 
 INSTANTIATE_TEST_SUITE_P(Rows, PhantomTargets, ::testing::ValuesIn(kRows),
