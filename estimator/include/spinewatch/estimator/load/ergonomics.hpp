@@ -76,7 +76,7 @@ class ErgonomicsMonitor {
   ErgonomicLimits limits_;
   std::map<std::string, Held> held_;
   std::map<std::string, bool> in_entry_;                   // bend/twist within an entry (within_bend_twist_entry)
-  std::map<std::string, std::deque<std::int64_t>> entries_;  // times it went above, last minute
+  std::map<std::string, std::deque<std::int64_t>> entries_;  // times an entry began (within_bend_twist_entry), last minute
 };
 
 }  // namespace spinewatch
