@@ -9,6 +9,9 @@
 // is missing or cannot start, the test says so and is skipped.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <regex>
 
 #include <opencv2/imgcodecs.hpp>
@@ -96,7 +99,8 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
     EXPECT_EQ(std::count(spines.back().begin(), spines.back().end(), ' '), 16) << spines.back();
   }
   ASSERT_GE(spines.size(), 2u) << "pages not tracking: " << other_states.size();
-  EXPECT_LE(other_states.size(), 3u) << "the page showed a tracked spine too rarely";
+  EXPECT_LE(other_states.size(), 3u) << "the page showed a tracked spine too rarely; it showed: \""
+                                    << fmt::format("{}", fmt::join(other_states, "\", \"")) << "\"";
   EXPECT_TRUE(two_differ()) << "the spine view did not change while the phantom bends, over " << spines.size()
                             << " tracked pages";
   EXPECT_GT(frames_written(), frames_before) << "the page's MJPEG stream received no frame";
