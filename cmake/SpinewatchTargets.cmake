@@ -54,6 +54,17 @@ function(spinewatch_optimise_under_sanitizers target)
   endif()
 endfunction()
 
+# spinewatch_measurement_program(<target>)
+# A program run by hand to measure (a sweep behind a table in docs/), with
+# no test that runs it: the release build compiles it, so it keeps building;
+# the sanitizer and cross builds leave it out of `all`, since nothing there
+# runs it (docs/testing.md, "Build speed").
+function(spinewatch_measurement_program target)
+  if(SPINEWATCH_SANITIZE OR CMAKE_CROSSCOMPILING)
+    set_target_properties(${target} PROPERTIES EXCLUDE_FROM_ALL ON)
+  endif()
+endfunction()
+
 # spinewatch_unity_build(<target>)
 # With SPINEWATCH_UNITY (the CI presets), the target's sources are compiled
 # a batch at a time, each batch one translation unit: the inline code of
