@@ -103,7 +103,24 @@ CvsmResult CvsmTracker::Impl::track(const BitMask& frontal, const BitMask& later
   if (held_away) hold_turned_away(frontal, lateral, r);
   // After the heading's checks: turned away says more (a mirror image).
   withhold_unexplained_legs(frontal, lateral, r);
+  confirm_after_withheld(r);
   return r;
+}
+
+// A withheld pair leaves the fit where the check found it wanting (a
+// lean over legs the model does not draw, a pelvis dropped on bent knees),
+// and the search walks back over the next pairs: on the phantom baseline
+// the first pair to pass after such a stretch was 48–63 mm off at its
+// worst vertebra (4 of 8), the next one under 50 (docs/cvsm.md). Two
+// pairs in a row must pass; the first is held, flagged.
+void CvsmTracker::Impl::confirm_after_withheld(CvsmResult& r) {
+  const bool passed = r.state == TrackingState::Tracking;
+  const bool fit_went_on = phase == Phase::Tracking || phase == Phase::Predicting;
+  const bool hold = passed && withheld_last;
+  withheld_last = !passed && fit_went_on && r.estimated;
+  if (!hold) return;
+  r.state = TrackingState::Lost;
+  if (!r.fit.flag) r.fit.flag = std::string(kReacquiringFlag);
 }
 
 CvsmResult CvsmTracker::Impl::finish(TrackingState state, int candidates, std::string_view flag) {
@@ -139,6 +156,7 @@ CvsmResult CvsmTracker::Impl::no_person(std::string_view flag) {
   if (phase == Phase::Building && subject) building_interrupted = true;
   if (phase != Phase::Building) phase = Phase::Searching;
   if (phase != Phase::Building && flag == "no_person") left_view = true;
+  withheld_last = false;  // the next pair is searched afresh
   return r;
 }
 

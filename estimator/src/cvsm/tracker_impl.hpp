@@ -103,6 +103,12 @@ struct CvsmTracker::Impl {
   CvsmResult track(const BitMask& frontal, const BitMask& lateral, std::string_view flag);
   CvsmResult finish(TrackingState state, int candidates, std::string_view flag);
   CvsmResult no_person(std::string_view flag);
+  // A pair a check withheld (state lost, the fit going on from its pose)
+  // was last: the next pair that passes is held too, and only the one
+  // after it is published as tracking (docs/cvsm.md, "Reacquired after a
+  // withheld stretch").
+  void confirm_after_withheld(CvsmResult& r);
+  bool withheld_last = false;
 
   // --- tracker_search.cpp: the trunk's searches
   // The hip joints stay where the subject stood or sat: moving them is

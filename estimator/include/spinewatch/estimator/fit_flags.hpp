@@ -42,6 +42,13 @@ inline constexpr std::string_view kKneesBentFlag = "knees_bent";
 // (docs/cvsm.md, "Legs the fit leaves out").
 inline constexpr std::string_view kLegsUnexplainedFlag = "legs_unexplained";
 
+// The first pair to pass every check after pairs a check withheld while
+// the fit went on from their pose (knees_bent, legs_unexplained, …): the
+// search is still walking back from where those checks found it, so this
+// pair is lost and the next one that passes is tracking (docs/cvsm.md,
+// "Reacquired after a withheld stretch").
+inline constexpr std::string_view kReacquiringFlag = "reacquiring";
+
 // Not a pair: a camera went away here; one lost posture marks the gap.
 inline constexpr std::string_view kCameraLostFlag = "camera_lost";
 
