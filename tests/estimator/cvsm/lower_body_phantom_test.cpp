@@ -40,7 +40,8 @@ TEST(LowerBody, AStepAsideIsFollowedNotBentInto) {
 struct Withheld {
   int pairs = 0, wrong = 0;
 };
-test::TrustRun track_legs(const std::string& scenario, const std::string& ansur_id, Withheld& withheld) {
+// One render of `scenario` for an ANSUR II subject: 60 person frames, seed 1.
+phantom::PhantomOptions ansur_render(const std::string& scenario, const std::string& ansur_id) {
   phantom::PhantomOptions po;
   po.scenario = scenario;
   auto subject = phantom::load_ansur_subject("ansur:" + ansur_id,
@@ -49,6 +50,11 @@ test::TrustRun track_legs(const std::string& scenario, const std::string& ansur_
   if (subject.ok()) po.subject = *subject;
   po.frames = 60;
   po.seed = 1;
+  return po;
+}
+
+test::TrustRun track_legs(const std::string& scenario, const std::string& ansur_id, Withheld& withheld) {
+  const phantom::PhantomOptions po = ansur_render(scenario, ansur_id);
   auto each_fitted = [&](const phantom::PhantomFrame& f, const CvsmResult& r) {
     if (r.state != TrackingState::Lost || r.fit.flag != std::string(kLegsUnexplainedFlag)) return;
     ++withheld.pairs;
@@ -116,14 +122,7 @@ TEST(LowerBody, TheFirstPairAfterAWithheldStretchIsHeldAndTheNextTracked) {
   int held = 0;
   double held_mm = 0, after_mm = 0;
   for (const char* ansur_id : {"11953", "25762"}) {
-    phantom::PhantomOptions po;
-    po.scenario = "lunge";
-    auto subject = phantom::load_ansur_subject("ansur:" + std::string(ansur_id),
-                                               test::source_dir() + "/" + std::string(anthropometry::kAnsurRelativeDir));
-    ASSERT_TRUE(subject.ok()) << subject.error().message;
-    po.subject = *subject;
-    po.frames = 60;
-    po.seed = 1;
+    const phantom::PhantomOptions po = ansur_render("lunge", ansur_id);
     struct Pair {
       TrackingState state;
       std::string flag;
