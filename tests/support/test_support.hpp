@@ -29,6 +29,23 @@ constexpr Duration scaled(Duration d) {
   return d * kTimeScale;
 }
 
+// Under the sanitizers a sweep that runs the same code over like cases
+// (subjects, scenarios) runs a sample of them: ASan and UBSan check the
+// code, which every case runs, and a case costs 3-5x its release time
+// there. The release build runs every case and asserts each one's figures
+// (docs/testing.md, "Build speed").
+inline constexpr bool kSanitized = SPINEWATCH_TEST_SANITIZED;
+
+// The cases this build runs: all of them, or under the sanitizers every
+// `stride`-th from the first.
+template <class Case>
+std::vector<Case> sanitizer_sample(const std::vector<Case>& cases, std::size_t stride) {
+  if (!kSanitized) return cases;
+  std::vector<Case> kept;
+  for (std::size_t i = 0; i < cases.size(); i += stride) kept.push_back(cases[i]);
+  return kept;
+}
+
 // A plausible tracking posture: seq 17, t_ns 566666666, a gently curved
 // spine rotating a little per level, fit cost 0.031, latency 412 µs.
 Posture sample_tracking_posture();
