@@ -31,9 +31,9 @@ constexpr Duration scaled(Duration d) {
 
 // Under the sanitizers a sweep that runs the same code over like cases
 // (subjects, scenarios) runs a sample of them: ASan and UBSan check the
-// code, which every case runs, and a case costs 3-5x its release time
+// code, which every case runs, and a case costs 5-7x its release time
 // there. The release build runs every case and asserts each one's figures
-// (docs/testing.md, "Build speed").
+// (docs/testing.md, "How the sanitizer stage is kept...").
 inline constexpr bool kSanitized = SPINEWATCH_TEST_SANITIZED;
 
 // The cases this build runs: all of them, or under the sanitizers every
