@@ -1,17 +1,13 @@
 #include "spinewatch/capture/background_images.hpp"
 
 #include <algorithm>
-#include <array>
-#include <fstream>
-#include <string_view>
 #include <system_error>
 #include <utility>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "spinewatch/frames/printable.hpp"
+#include "background/png_file.hpp"
 
 namespace spinewatch {
 namespace {
@@ -52,50 +48,26 @@ cv::Mat bgr_of(const SceneImage& image) {
 // The largest scene a camera delivers (config: cameras.width/height <= 4096).
 constexpr std::uint32_t kMaxSide = 4096;
 
-// The size a PNG declares in its IHDR chunk, read before anything is
-// decoded: OpenCV allocates width x height x channels first, so a crafted
-// header (a valid checksum over 30000x30000) would have it ask for
-// gigabytes. Only PNG is read (docs/interfaces.md §2), not whatever else
-// imread would decode.
-Result<std::pair<std::uint32_t, std::uint32_t>> png_size(const std::filesystem::path& path) {
-  static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  std::array<unsigned char, 24> head{};
-  std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(head.data()), head.size());
-  if (!in || !std::equal(kSignature.begin(), kSignature.end(), head.begin()) ||
-      std::string_view(reinterpret_cast<const char*>(head.data() + 12), 4) != "IHDR")
-    return Error{fmt::format("{}: not a PNG file", path.string())};
-  const auto be32 = [&](std::size_t at) {
-    return std::uint32_t{head[at]} << 24 | std::uint32_t{head[at + 1]} << 16 | std::uint32_t{head[at + 2]} << 8 |
-           std::uint32_t{head[at + 3]};
-  };
-  return std::pair{be32(16), be32(20)};
-}
-
+// The size is the PNG header's, checked before anything is decoded: a
+// crafted header (a valid checksum over 30000x30000) would otherwise have
+// the decoder's buffer asked for gigabytes. Only PNG is read
+// (docs/interfaces.md §2).
 Result<SceneImage> read_scene(const std::filesystem::path& path, int width, int height) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return Error{fmt::format("{}: no such file", path.string())};
-  auto declared = png_size(path);
-  if (!declared) return declared.error();
-  const auto [declared_width, declared_height] = *declared;
+  auto file = PngFile::open(path);
+  if (!file) return file.error();
+  const std::uint32_t declared_width = file->width(), declared_height = file->height();
   if (width > 0 && (declared_width != std::uint32_t(width) || declared_height != std::uint32_t(height)))
     return Error{fmt::format("{}: {}x{} does not match the cameras' {}x{}", path.string(), declared_width,
                              declared_height, width, height)};
   if (declared_width == 0 || declared_height == 0 || declared_width > kMaxSide || declared_height > kMaxSide)
     return Error{fmt::format("{}: {}x{} is not a camera's size (1..{} a side)", path.string(), declared_width,
                              declared_height, kMaxSide)};
-  cv::Mat image;
-  try {
-    image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  } catch (const std::exception& e) {  // cv::Exception, or a standard one from a decoder
-    return Error{fmt::format("{}: {}", path.string(), printable(e.what()))};
-  }
-  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3 && image.channels() != 4))
-    return Error{fmt::format("{}: cannot be read as an 8-bit grey or colour image", path.string())};
-  if (width > 0 && (image.cols != width || image.rows != height))
-    return Error{fmt::format("{}: {}x{} does not match the cameras' {}x{}", path.string(), image.cols, image.rows,
-                             width, height)};
-  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  if (file->deep()) return Error{fmt::format("{}: cannot be read as an 8-bit grey or colour image", path.string())};
+  auto decoded = file->decode();
+  if (!decoded) return decoded.error();
+  cv::Mat image = std::move(decoded).value();
   if (image.channels() == 3 && image.cols % 2 == 0) return SceneImage{image.cols, image.rows, 2, yuyv_of(image)};
   // Grey, or colour of an odd width (no pixel pairs): its luma (BT.601,
   // which is what the Y of a YUYV frame holds).
@@ -140,13 +112,7 @@ Status write_background_images(const std::filesystem::path& dir, const Backgroun
         g.pixels.size() != std::size_t(g.width) * std::size_t(g.height) * std::size_t(g.step))
       return Error{fmt::format("{}: empty image", path.string())};
     const cv::Mat image = g.colour() ? bgr_of(g) : cv::Mat(g.height, g.width, CV_8U, const_cast<std::uint8_t*>(g.pixels.data()));
-    bool written = false;
-    try {
-      written = cv::imwrite(path.string(), image);
-    } catch (const cv::Exception& e) {
-      return Error{fmt::format("{}: {}", path.string(), e.what())};
-    }
-    if (!written) return Error{fmt::format("{}: cannot be written", path.string())};
+    if (auto written = write_png(path, image); !written) return written.error();
   }
   return Ok{};
 }

@@ -3,7 +3,6 @@
 #include <chrono>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "pipeline/pipeline.hpp"
@@ -91,9 +90,12 @@ std::shared_ptr<const std::string> LiveView::render(const Sample& s) {
   scene.posture = &s.summary.posture;
   scene.note = options_.note;
   const cv::Mat image = render_overlay(scene, OverlayOptions{.scale = options_.scale});
-  std::vector<std::uint8_t> bytes;
-  if (!cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, options_.jpeg_quality})) return nullptr;
-  return std::make_shared<const std::string>(bytes.begin(), bytes.end());
+  auto jpeg = jpeg_.encode(image, options_.jpeg_quality);
+  if (!jpeg) {
+    spdlog::error("live view: pair {}: {}", s.summary.posture.seq, jpeg.error().message);
+    return nullptr;
+  }
+  return std::make_shared<const std::string>(std::move(jpeg).value());
 }
 
 void LiveView::run() {

@@ -27,6 +27,7 @@
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
 #include "spinewatch/estimator/silhouette/view_coverage.hpp"
 #include "spinewatch/frames/frame_pair.hpp"
+#include "http/jpeg_encoder.hpp"
 #include "support/bounded_queue.hpp"
 
 namespace spinewatch {
@@ -105,6 +106,7 @@ class LiveView {
   std::atomic<std::int64_t> picture_until_ns_{0}, state_until_ns_{0};
   std::int64_t last_offer_ns_ = 0;  // estimator thread only
   std::atomic<std::uint64_t> samples_{0}, samples_dropped_{0}, frames_{0}, render_us_{0};
+  JpegEncoder jpeg_;  // render thread only
   std::jthread thread_;
   bool stopped_ = false;
 };

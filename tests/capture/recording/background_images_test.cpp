@@ -95,6 +95,18 @@ TEST(BackgroundImages, AHugeDeclaredSizeIsRefusedBeforeDecoding) {
   EXPECT_EQ(r.error().message, huge.string() + ": 30000x30000 does not match the cameras' 64x48");
 }
 
+// Written by another program (OpenCV's imgcodecs, an independent libpng
+// user): an alpha channel is dropped, not blended, as a camera has none.
+TEST(BackgroundImages, AnAlphaChannelIsDropped) {
+  test::TempDir dir;
+  const auto with_alpha = dir.path() / "background_frontal.png";
+  ASSERT_TRUE(cv::imwrite(with_alpha.string(), cv::Mat(kH, kW, CV_8UC4, cv::Scalar(90, 90, 90, 10))));
+  auto r = load_background_images(with_alpha, with_alpha, kW, kH);
+  ASSERT_TRUE(r) << r.error().message;
+  ASSERT_TRUE(r->frontal.colour());
+  for (std::size_t i = 0; i < r->frontal.pixels.size(); i += 2) ASSERT_NEAR(r->frontal.pixels[i], 90, 1) << i;
+}
+
 TEST(BackgroundImages, OnlyPngIsRead) {
   test::TempDir dir;
   const auto bmp = dir.path() / "background_frontal.bmp";
