@@ -18,8 +18,12 @@
 #include <spdlog/spdlog.h>
 
 #include "../phantom_pairs.hpp"
+#include <opencv2/imgcodecs.hpp>
+
 #include "http/http_server.hpp"
+#include "http/jpeg_encoder.hpp"
 #include "http/live_view.hpp"
+#include "spinewatch/overlay/overlay.hpp"
 #include "spinewatch/estimator/pipeline.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
@@ -117,6 +121,50 @@ void BM_PipelinePairWithViewers(benchmark::State& state) {
   io_thread.join();
 }
 BENCHMARK(BM_PipelinePairWithViewers)->Arg(0)->Arg(5)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+// One live-view picture to JPEG, as the live view's thread encodes it:
+// the overlay of a phantom pair at the default scale (1 280 × 508, the
+// camera's pixels under it), quality 80. Arg 0: JpegEncoder (TurboJPEG,
+// one compressor kept); 1: the reference, cv::imencode (libjpeg's API
+// through OpenCV, set up per picture), which the live view used before.
+void BM_LiveViewJpeg(benchmark::State& state) {
+  auto scene = bench::petite_flexion();
+  if (!scene.ok()) {
+    state.SkipWithError(scene.error().message.c_str());
+    return;
+  }
+  const phantom::PhantomOptions& options = *scene;
+  const auto pairs = bench::phantom_pairs(options);
+  if (pairs.size() <= static_cast<std::size_t>(options.empty_frames)) {
+    state.SkipWithError("phantom frames");
+    return;
+  }
+  const FramePair& pair = pairs[static_cast<std::size_t>(options.empty_frames)];
+  OverlayScene overlay;
+  overlay.rig = &options.rig;
+  overlay.width = static_cast<int>(pair.frontal.format().width);
+  overlay.height = static_cast<int>(pair.frontal.format().height);
+  overlay.frames[0] = &pair.frontal;
+  overlay.frames[1] = &pair.lateral;
+  const cv::Mat picture = render_overlay(overlay, OverlayOptions{.scale = LiveViewOptions{}.scale});
+  const int quality = LiveViewOptions{}.jpeg_quality;
+  JpegEncoder encoder;
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      auto jpeg = encoder.encode(picture, quality);
+      bytes = jpeg ? jpeg->size() : 0;
+    } else {
+      std::vector<std::uint8_t> jpeg;
+      cv::imencode(".jpg", picture, jpeg, {cv::IMWRITE_JPEG_QUALITY, quality});
+      bytes = jpeg.size();
+    }
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.counters["bytes"] = static_cast<double>(bytes);
+  state.counters["pixels"] = static_cast<double>(picture.total());
+}
+BENCHMARK(BM_LiveViewJpeg)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace spinewatch

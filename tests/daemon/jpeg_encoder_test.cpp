@@ -54,6 +54,20 @@ TEST(JpegEncoder, ColourComesBackAsCloseAsTheReferencesPicture) {
   EXPECT_GT(cv::PSNR(image, back), cv::PSNR(swapped, back) + 5.0);
 }
 
+// The same libjpeg-turbo underneath, the same settings (quality, 4:2:0,
+// the accurate DCT, no optimised Huffman tables): the same file.
+TEST(JpegEncoder, WritesTheReferencesBytes) {
+  for (const int channels : {3, 1}) {
+    const cv::Mat image = gradient_scene(320, 240, channels);
+    std::vector<std::uint8_t> reference;
+    ASSERT_TRUE(cv::imencode(".jpg", image, reference, {cv::IMWRITE_JPEG_QUALITY, 80}));
+    JpegEncoder encoder;
+    auto jpeg = encoder.encode(image, 80);
+    ASSERT_TRUE(jpeg);
+    EXPECT_EQ(*jpeg, std::string(reference.begin(), reference.end())) << channels << " channels";
+  }
+}
+
 TEST(JpegEncoder, GreyStaysOneChannelAndLowerQualityIsSmaller) {
   const cv::Mat image = gradient_scene(160, 120, 1);
   JpegEncoder encoder;
