@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
@@ -21,6 +22,15 @@ std::string_view default_subject_json();
 
 namespace spinewatch::cli {
 namespace {
+
+// A photograph to use as a view's room: any image OpenCV reads; one
+// message naming the file when it cannot be read.
+Result<cv::Mat> load_backdrop(const std::filesystem::path& path) {
+  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+  if (image.empty())
+    return Error{fmt::format("{}: cannot read it as an image (give a PNG or JPEG photograph of the room)", path.string())};
+  return image;
+}
 
 // The default subject is a measured adult: ANSUR II subject 15936, the test
 // set's median man, his spine placed from his own C7 and iliac-crest
@@ -159,7 +169,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       }
       for (View view : kViews) {
         const std::string& path = view == View::Frontal ? opts->backdrop_frontal : opts->backdrop_lateral;
-        auto image = phantom::load_backdrop(path);
+        auto image = load_backdrop(path);
         if (!image) return exit_code.fail(image.error());
         p.backdrop[static_cast<std::size_t>(view)] = std::move(image).value();
       }

@@ -138,6 +138,13 @@ TEST(PhantomCli, CalibrationAndGeometryTogetherAreRefused) {
   auto half = test::run_cli("phantom --scenario upright --frames 2 --backdrop-frontal " +
                             (dir / "calibration.yaml").string() + " --out " + (dir / "rec").string());
   EXPECT_EQ(half.exit_code, 2) << half.output;
+  const std::string not_an_image = (dir / "calibration.yaml").string();
+  auto unreadable = test::run_cli("phantom --scenario upright --frames 2 --backdrop-frontal " + not_an_image +
+                                  " --backdrop-lateral " + not_an_image + " --out " + (dir / "rec").string());
+  EXPECT_NE(unreadable.exit_code, 0) << unreadable.output;
+  EXPECT_NE(unreadable.output.find(not_an_image + ": cannot read it as an image (give a PNG or JPEG photograph of the room)"),
+            std::string::npos)
+      << unreadable.output;
   auto out_of_range = test::run_cli("phantom --scenario upright --pair-angle 150 --out " + (dir / "rec").string());
   EXPECT_NE(out_of_range.exit_code, 0);
 }

@@ -7,7 +7,6 @@
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "spinewatch/estimator/units.hpp"
@@ -271,13 +270,6 @@ std::vector<SceneBox> furniture_boxes(Furniture furniture, double heading_deg) {
     b.axes = turn;
   }
   return boxes;
-}
-
-Result<cv::Mat> load_backdrop(const std::filesystem::path& path) {
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (image.empty())
-    return Error{fmt::format("{}: cannot read it as an image (give a PNG or JPEG photograph of the room)", path.string())};
-  return image;
 }
 
 cv::Mat paint_room(const RoomSetup& room, const CameraModel& camera, std::uint32_t seed, int view_index, cv::Mat& luma,

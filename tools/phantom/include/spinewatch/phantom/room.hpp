@@ -45,10 +45,6 @@ struct RoomSetup {
   bool empty() const { return kind == RoomKind::Plain && backdrop.empty() && furniture.empty(); }
 };
 
-// A photograph to use as a view's room: any image OpenCV reads; one
-// message naming the file when it cannot be read.
-Result<cv::Mat> load_backdrop(const std::filesystem::path& path);
-
 // Paints the room into one view's noise-free scene (luma CV_32F, chroma
 // CV_32FC2 offsets), replacing what the plain scene drew where the room
 // differs, and returns the depth (camera z, mm) of the furniture at each
