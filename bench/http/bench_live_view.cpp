@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <optional>
 #include <thread>
 
 #include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
@@ -50,20 +51,32 @@ void view(std::uint16_t port, const std::atomic<bool>& stop) {
   ::close(fd);
 }
 
-void BM_PipelinePairWithViewers(benchmark::State& state) {
-  const int viewers = static_cast<int>(state.range(0));
-  spdlog::set_level(spdlog::level::warn);
+// The petite subject's flexion rendered, or the benchmark skipped with why.
+struct FlexionRun {
+  phantom::PhantomOptions options;
+  std::vector<FramePair> pairs;
+};
+std::optional<FlexionRun> flexion_run(benchmark::State& state) {
   auto scene = bench::petite_flexion();
   if (!scene.ok()) {
     state.SkipWithError(scene.error().message.c_str());
-    return;
+    return std::nullopt;
   }
-  const phantom::PhantomOptions& options = *scene;
-  const auto pairs = bench::phantom_pairs(options);
-  if (pairs.empty()) {
+  FlexionRun run{*scene, bench::phantom_pairs(*scene)};
+  if (run.pairs.size() <= static_cast<std::size_t>(run.options.empty_frames)) {
     state.SkipWithError("phantom frames");
-    return;
+    return std::nullopt;
   }
+  return run;
+}
+
+void BM_PipelinePairWithViewers(benchmark::State& state) {
+  const int viewers = static_cast<int>(state.range(0));
+  spdlog::set_level(spdlog::level::warn);
+  const auto run = flexion_run(state);
+  if (!run) return;
+  const phantom::PhantomOptions& options = run->options;
+  const std::vector<FramePair>& pairs = run->pairs;
   EstimatorOptions estimator_options;
   estimator_options.subject.spine_placement = SpinePlacementMode::Generic;  // the petite subject is a generic one
   PostureEstimator estimator(options.rig, estimator_options);
@@ -128,18 +141,10 @@ BENCHMARK(BM_PipelinePairWithViewers)->Arg(0)->Arg(5)->Unit(benchmark::kMicrosec
 // one compressor kept); 1: the reference, cv::imencode (libjpeg's API
 // through OpenCV, set up per picture), which the live view used before.
 void BM_LiveViewJpeg(benchmark::State& state) {
-  auto scene = bench::petite_flexion();
-  if (!scene.ok()) {
-    state.SkipWithError(scene.error().message.c_str());
-    return;
-  }
-  const phantom::PhantomOptions& options = *scene;
-  const auto pairs = bench::phantom_pairs(options);
-  if (pairs.size() <= static_cast<std::size_t>(options.empty_frames)) {
-    state.SkipWithError("phantom frames");
-    return;
-  }
-  const FramePair& pair = pairs[static_cast<std::size_t>(options.empty_frames)];
+  const auto run = flexion_run(state);
+  if (!run) return;
+  const phantom::PhantomOptions& options = run->options;
+  const FramePair& pair = run->pairs[static_cast<std::size_t>(options.empty_frames)];
   OverlayScene overlay;
   overlay.rig = &options.rig;
   overlay.width = static_cast<int>(pair.frontal.format().width);
