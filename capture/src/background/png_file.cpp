@@ -51,7 +51,7 @@ Result<PngFile> PngFile::open(const std::filesystem::path& path) {
   if (!has_png_signature(path)) return Error{fmt::format("{}: not a PNG file", path.string())};
   auto header = std::make_unique<Header>();
   if (!png_image_begin_read_from_file(&header->image, path.c_str()))
-    return Error{fmt::format("{}: {}", path.string(), reason_of(header->image))};
+    return Error{fmt::format("{}: cannot be read as a PNG file (libpng: {})", path.string(), reason_of(header->image))};
   return PngFile(std::move(header), path);
 }
 
@@ -70,7 +70,7 @@ Result<cv::Mat> PngFile::decode() {
   image.format = (colour() ? PNG_FORMAT_BGR : PNG_FORMAT_GRAY) | (alpha ? PNG_FORMAT_FLAG_ALPHA : 0u);
   cv::Mat pixels(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC(channels));
   if (!png_image_finish_read(&image, nullptr, pixels.data, static_cast<png_int_32>(pixels.step[0]), nullptr))
-    return Error{fmt::format("{}: {}", path_.string(), reason_of(image))};
+    return Error{fmt::format("{}: cannot be decoded, cut short or damaged (libpng: {})", path_.string(), reason_of(image))};
   if (!alpha) return pixels;
   cv::Mat opaque;
   if (colour())

@@ -107,6 +107,21 @@ TEST(BackgroundImages, AnAlphaChannelIsDropped) {
   for (std::size_t i = 0; i < r->frontal.pixels.size(); i += 2) ASSERT_NEAR(r->frontal.pixels[i], 90, 1) << i;
 }
 
+// A file cut short (a copy interrupted): its header is whole, its pixels
+// are not. One message naming the file, no partial scene.
+TEST(BackgroundImages, ACutFileIsAnErrorNamingIt) {
+  test::TempDir dir;
+  SceneImage grey{kW, kH, 1, std::vector<std::uint8_t>(kW * kH)};
+  for (std::size_t i = 0; i < grey.pixels.size(); ++i) grey.pixels[i] = static_cast<std::uint8_t>(i * 7 % 251);
+  ASSERT_TRUE(write_background_images(dir.path(), {grey, grey}));
+  const auto cut = dir.path() / kBackgroundFiles[0];
+  std::filesystem::resize_file(cut, std::filesystem::file_size(cut) / 2);
+  auto r = load_background_images(dir.path(), kW, kH);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message.rfind(cut.string() + ": cannot be decoded, cut short or damaged (libpng: ", 0), 0u)
+      << r.error().message;
+}
+
 TEST(BackgroundImages, OnlyPngIsRead) {
   test::TempDir dir;
   const auto bmp = dir.path() / "background_frontal.bmp";
