@@ -1,8 +1,9 @@
 #pragma once
-// PNG files through libpng's simplified API (png_image), not OpenCV's
-// imgcodecs: the station reads and writes no other image format, and
-// imgcodecs brings its other codecs along (GDAL, GDCM, OpenEXR, HEIF:
-// about 140 shared libraries loaded at every start of the daemon).
+// PNG files through libpng, not OpenCV's imgcodecs: the station reads and
+// writes no other image format, and imgcodecs brings its other codecs
+// along (GDAL, GDCM, OpenEXR, HEIF: about 140 shared libraries loaded at
+// every start of the daemon). Read with the simplified API (png_image),
+// written with the full one (write_png says why).
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -18,7 +19,7 @@ namespace spinewatch {
 class PngFile {
  public:
   // Fails with "<path>: not a PNG file" on anything without the PNG
-  // signature, or with libpng's own reason.
+  // signature, else with libpng's reason for a header it cannot read.
   static Result<PngFile> open(const std::filesystem::path& path);
 
   PngFile(PngFile&&) noexcept;
@@ -43,7 +44,8 @@ class PngFile {
   std::filesystem::path path_;
 };
 
-// Writes an 8-bit grey or B, G, R image as a PNG file.
+// Writes an 8-bit grey or B, G, R image as a PNG file; errors name the
+// file and why ("cannot be written: <errno's text or libpng's>").
 Status write_png(const std::filesystem::path& path, const cv::Mat& image);
 
 }  // namespace spinewatch

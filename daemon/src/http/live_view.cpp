@@ -92,7 +92,12 @@ std::shared_ptr<const std::string> LiveView::render(const Sample& s) {
   const cv::Mat image = render_overlay(scene, OverlayOptions{.scale = options_.scale});
   auto jpeg = jpeg_.encode(image, options_.jpeg_quality);
   if (!jpeg) {
-    spdlog::error("live view: pair {}: {}", s.summary.posture.seq, jpeg.error().message);
+    // Once: a compressor that fails fails for every picture, at http.fps a
+    // second; the live frames counter (metrics) stops rising meanwhile.
+    if (!jpeg_failure_logged_)
+      spdlog::error("live view: pair {}: {} (further failures are not logged)", s.summary.posture.seq,
+                    jpeg.error().message);
+    jpeg_failure_logged_ = true;
     return nullptr;
   }
   return std::make_shared<const std::string>(std::move(jpeg).value());

@@ -106,7 +106,8 @@ class LiveView {
   std::atomic<std::int64_t> picture_until_ns_{0}, state_until_ns_{0};
   std::int64_t last_offer_ns_ = 0;  // estimator thread only
   std::atomic<std::uint64_t> samples_{0}, samples_dropped_{0}, frames_{0}, render_us_{0};
-  JpegEncoder jpeg_;  // render thread only
+  JpegEncoder jpeg_;                  // render thread only
+  bool jpeg_failure_logged_ = false;  // render thread only
   std::jthread thread_;
   bool stopped_ = false;
 };

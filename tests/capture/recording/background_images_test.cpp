@@ -122,6 +122,18 @@ TEST(BackgroundImages, ACutFileIsAnErrorNamingIt) {
       << r.error().message;
 }
 
+// Where the file cannot be made (a directory of that name is in the way):
+// one message naming the file and why, nothing written.
+TEST(BackgroundImages, AFileThatCannotBeWrittenIsAnErrorNamingIt) {
+  test::TempDir dir;
+  const auto blocked = dir.path() / kBackgroundFiles[0];
+  std::filesystem::create_directories(blocked);
+  SceneImage grey{kW, kH, 1, std::vector<std::uint8_t>(kW * kH, 77)};
+  auto r = write_background_images(dir.path(), {grey, grey});
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, blocked.string() + ": cannot be written: Is a directory");
+}
+
 TEST(BackgroundImages, OnlyPngIsRead) {
   test::TempDir dir;
   const auto bmp = dir.path() / "background_frontal.bmp";
