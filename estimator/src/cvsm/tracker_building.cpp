@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "cvsm/tracker_impl.hpp"
+#include "spinewatch/estimator/fit_flags.hpp"
 
 namespace spinewatch {
 
@@ -61,11 +62,13 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
   standing_height.reset();
   ++init_frames;
   CvsmResult r = finish(TrackingState::Init, candidates, flag);
+  const double best_before = best_building_cost;
   best_building_cost = std::min(best_building_cost, r.fit.cost);
   // The model is complete only once the heading is known: a subject
   // whose front the views cannot tell from its back stays init.
   if (init_frames >= opt.subject_frames && heading_resolved) {
     built_silhouette_px = *r.fit.silhouette_frontal_px + *r.fit.silhouette_lateral_px;
+    const bool moved_while_building = r.fit.cost > best_before + kBuildingCostRise;
     // The pair that completes the model gets the arms a tracked pair gets
     // where the fixed fit leaves the arms' evidence (raised while the model
     // was built): without them the trunk leans to the arms' outline.
@@ -81,12 +84,29 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     withhold_misplaced_head(frontal, lateral, r);
     if (held_away) hold_turned_away(frontal, lateral, r);
     withhold_unexplained_legs(frontal, lateral, r);
+    if (moved_while_building) withhold_moved_while_building(r);
   } else if (init_frames >= opt.provisional_frames && heading_resolved && !held_away && facing_settled() &&
              !building_interrupted && pelvis_seen(frontal, lateral, r) &&
              head_placed(frontal, lateral, r)) {
     publish_provisional(r);
   }
   return r;
+}
+
+// The pair that completes the model fits worse than the building's best by
+// more than a posture the model holds (kBuildingCostRise): the subject
+// moved while it was built (arms raised, a lunge), the building took part
+// of that posture into the shape, and the pose followed it less. Its
+// posture is not published; the fit goes on from it, and the next pair
+// that passes is held too (confirm_after_withheld). On the phantom
+// baseline these completing pairs were 50–91 mm off (arms overhead, a
+// lunge) and the pair after them 44–50 (docs/cvsm.md, "Provisional
+// model").
+void CvsmTracker::Impl::withhold_moved_while_building(CvsmResult& r) {
+  if (r.state != TrackingState::Tracking) return;
+  r.state = TrackingState::Lost;
+  r.fit.flag = std::string(kMovedWhileBuildingFlag);
+  withheld_last = true;
 }
 
 // The subject model from the first clean pair: measured, then standing or
@@ -124,32 +144,20 @@ int CvsmTracker::Impl::start_subject(const BitMask& frontal, const BitMask& late
   return evaluations;
 }
 
-namespace {
-
 // A pair of the model's building, fitted against the model built so far
 // (docs/cvsm.md, "Provisional model"): published as tracking when it
 // passes what a tracked pair must — a fit within lost_cost, the lower
 // body seen in a view, an axial twist whose sign the views tell (and
 // the fit's own, not its mirror) — and a fit no worse than the best of
-// the building's pairs by more than kProvisionalCostRise, with that rise
+// the building's pairs by more than kBuildingCostRise, with that rise
 // to spare below lost_cost (the cost goes on rising as the model
 // completes: side-on to the frontal camera the building's pairs fitted at
 // 0.34–0.347, 140–210 mm off, and the complete model was lost). The
 // caller has also waited for the facing side told and an uninterrupted
 // building (facing_settled, building_interrupted). Else it stays init.
 // The pose is not changed: the model goes on being built from it.
-// The rise: the building fits shape and pose together, so a posture the
-// model does not hold (a lunge, a raised arm) is partly taken into the
-// shape and the pose follows it less; the cost says so before the
-// posture goes wrong. On the development subject's lunge the fit was
-// 46 mm off at a rise of 0.048 and 51 mm at 0.067, while reaching arms
-// rose to 0.039 at 20 mm (docs/cvsm.md, "Provisional model").
-constexpr double kProvisionalCostRise = 0.04;
-
-}  // namespace
-
 void CvsmTracker::Impl::publish_provisional(CvsmResult& r) {
-  if (r.fit.cost > opt.lost_cost - kProvisionalCostRise || r.fit.cost > best_building_cost + kProvisionalCostRise) return;
+  if (r.fit.cost > opt.lost_cost - kBuildingCostRise || r.fit.cost > best_building_cost + kBuildingCostRise) return;
   if (hiding[0] && hiding[1]) return;
   const CvsmPose built = pose;
   cost->set_row_step(opt.search_row_step);  // the twist margin's rows

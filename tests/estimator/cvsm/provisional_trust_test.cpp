@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "spinewatch/anthropometry/ansur.hpp"
+#include "spinewatch/estimator/fit_flags.hpp"
 #include "spinewatch/phantom/ansur_subject.hpp"
 #include "test_support.hpp"
 #include "trust_run.hpp"
@@ -40,7 +41,7 @@ TEST(ProvisionalModel, MeasuredAdultsBendingAreNinetyPercentTrackedWithNoWrongPo
 // Turned 90° (side-on to the frontal camera) with the heading held facing
 // it ([cvsm] heading = "fixed"), the model barely fits (cost 0.34,
 // lost_cost 0.35) and is lost once complete; an early pair needs
-// kProvisionalCostRise to spare below lost_cost. Without it, pairs 6–8
+// kBuildingCostRise to spare below lost_cost. Without it, pairs 6–8
 // with the person were tracking 209 mm off. (With the default "front" the
 // fit turns with him: 7 of 9 tracking, the worst vertebra 19 mm off.)
 TEST(ProvisionalModel, NoEarlyPostureFromAFitAtTheEdgeOfLost) {
@@ -87,6 +88,44 @@ TEST(ProvisionalModel, NoEarlyPostureOnceTheBuildingWasInterrupted) {
   EXPECT_EQ(provisional, 0);
   EXPECT_GT(run.tracking, 0);
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
+}
+
+// Arms going overhead while the model is built (the phantom's
+// arms_overhead, 60 person frames): the building's cost rises from 0.09 to
+// 0.21–0.26 as the shape takes in the raised arms. The pair that completes
+// the model is withheld (moved_while_building) and the next one that
+// passes is held as reacquiring; the fit goes on from them. Measured here:
+// those two were 107 and 60 mm off (11953) and 43 and 21 mm (28496), and
+// the first tracking pair after them 43 and 14 mm. Unwithheld, the
+// completing pair was tracking 91 mm (11953) and 60 mm (28496) off on the
+// baseline's recordings (docs/cvsm.md, "Provisional model"). Later in the
+// clip, as 11953's arms come down, one pair is still tracking 72 mm off
+// (issue 31); this test holds the first 20 person pairs.
+TEST(ProvisionalModel, ThePairCompletingAModelBuiltWhileTheArmsRoseIsWithheld) {
+  constexpr int kHeldPairs = 20;
+  for (const int id : {11953, 28496}) {
+    phantom::PhantomOptions po = ansur_flexion(id, 60);
+    po.scenario = "arms_overhead";
+    int person = 0, moved = 0, reacquiring = 0, wrong_early = 0;
+    test::track_for_trust(
+        po, CvsmOptions{}, "arms overhead " + std::to_string(id), {},
+        [&](const phantom::PhantomFrame& f, const CvsmResult& r) {
+          if (person++ >= kHeldPairs) return;
+          if (r.state == TrackingState::Lost && r.fit.flag) {
+            moved += *r.fit.flag == kMovedWhileBuildingFlag;
+            reacquiring += *r.fit.flag == kReacquiringFlag;
+          }
+          if (r.state != TrackingState::Tracking) return;
+          for (std::size_t k = 0; k < kVertebraCount; ++k)
+            if ((r.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm() > test::kWrongMm) {
+              ++wrong_early;
+              break;
+            }
+        });
+    EXPECT_EQ(moved, 1) << id;
+    EXPECT_EQ(reacquiring, 1) << id;
+    EXPECT_EQ(wrong_early, 0) << id;
+  }
 }
 
 }  // namespace

@@ -49,6 +49,13 @@ inline constexpr std::string_view kLegsUnexplainedFlag = "legs_unexplained";
 // "Reacquired after a withheld stretch").
 inline constexpr std::string_view kReacquiringFlag = "reacquiring";
 
+// The pair that completes the subject's model fits it worse than the
+// model's building did by more than a posture the model holds: the subject
+// moved while the model was built (arms raised, a lunge), so this pair is
+// lost and the next one that passes is held as reacquiring (docs/cvsm.md,
+// "Provisional model").
+inline constexpr std::string_view kMovedWhileBuildingFlag = "moved_while_building";
+
 // Not a pair: a camera went away here; one lost posture marks the gap.
 inline constexpr std::string_view kCameraLostFlag = "camera_lost";
 
