@@ -223,14 +223,14 @@ TEST(Config, SpinePlacementReachesTheEstimatorAndRefusesOtherNames) {
   EXPECT_EQ(bad.error().message, "s.toml:2: subject.spine_placement: \"ansur\" is not one of: measured, generic");
 }
 
-// cvsm.refine_steps reaches the estimator, off by default (its effect on
-// the postures: tests/estimator/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
+// cvsm.refine_steps reaches the estimator, one step by default (its effect
+// on the postures: tests/estimator/cvsm, CvsmRefinement.BringsTheFitCloserToAnotherSubjectsPose;
 // through replay --config: tests/tools/calibrate, CalibrateCli.ReplayWith…).
-TEST(Config, RefineStepsReachTheEstimatorOffByDefault) {
-  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.refine_steps, 0);
-  auto one = parse_config("[cvsm]\nrefine_steps = 1\n", "s.toml");
-  ASSERT_TRUE(one) << one.error().message;
-  EXPECT_EQ(estimator_options(*one).cvsm.refine_steps, 1);
+TEST(Config, RefineStepsReachTheEstimatorOneStepByDefault) {
+  EXPECT_EQ(estimator_options(*parse_config("", "s.toml")).cvsm.refine_steps, 1);
+  auto off = parse_config("[cvsm]\nrefine_steps = 0\n", "s.toml");
+  ASSERT_TRUE(off) << off.error().message;
+  EXPECT_EQ(estimator_options(*off).cvsm.refine_steps, 0);
   auto on = parse_config("[cvsm]\nrefine_steps = 2\n", "s.toml");
   ASSERT_TRUE(on) << on.error().message;
   EXPECT_EQ(estimator_options(*on).cvsm.refine_steps, 2);

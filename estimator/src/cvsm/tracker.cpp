@@ -2,6 +2,8 @@
 // tracker_impl.hpp); each step of it is defined in the file of its concept.
 #include "spinewatch/estimator/cvsm/tracker.hpp"
 
+#include <utility>
+
 #include "cvsm/tracker_impl.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 
@@ -78,6 +80,9 @@ CvsmResult CvsmTracker::Impl::track(const BitMask& frontal, const BitMask& later
   // subject may have stepped; the anchor follows below).
   CvsmResult r = settle(frontal, lateral, candidates, flag, searched_globally);
   if (opt.limbs == LimbMode::Auto) try_arms(r, twist, before, searched_globally, flag, frontal, lateral);
+  // The refined pose is published; the next pair's search starts from the
+  // searched one (settle).
+  if (searched_pose) pose = *std::exchange(searched_pose, std::nullopt);
   if (twist.checked) r.twist_sign_margin_px = twist.margin_px;
   // A silhouette flag says more about the pair; it stays.
   if (r.state == TrackingState::Tracking && !twist.resolved() && !r.fit.flag) r.fit.flag = std::string(kTwistUnresolvedFlag);

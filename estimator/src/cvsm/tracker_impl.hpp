@@ -168,6 +168,9 @@ struct CvsmTracker::Impl {
   CvsmResult settle(const BitMask& frontal, const BitMask& lateral, int candidates, std::string_view flag,
                     bool searched_globally);
   bool refine_follows(double fixed_cost) const;
+  // The search's pose on a pair the refinement moved: the published pose
+  // is the refined one, the next pair is searched from this one.
+  std::optional<CvsmPose> searched_pose;
   int refine(const BitMask& frontal, const BitMask& lateral, int steps);
 
   // --- tracker_heading.cpp: the heading and the side faced

@@ -151,6 +151,7 @@ void CvsmTracker::Impl::try_arms(CvsmResult& r, TwistCheck& twist, const CvsmPos
   if (armed.fit.cost <= fixed.fit.cost - kArmsGain && armed.fit.cost <= hanging_cost - kArmsGain &&
       below <= kArmsLowerResidualMax) {
     r = armed;
+    searched_pose.reset();  // the arms' pose, not the refined fixed one
     r.fit.candidates = armed.fit.candidates.value_or(0) + 1;
     twist = arms_twist;
   } else {

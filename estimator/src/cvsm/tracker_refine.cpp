@@ -1,5 +1,5 @@
 // The outline refinement after the search (tracker_impl.hpp; docs/cvsm.md,
-// "Outline refinement"; outline_fit.hpp): off by default (refine_steps).
+// "Outline refinement"; outline_fit.hpp): one step by default (refine_steps).
 #include "cvsm/outline_fit.hpp"
 #include "cvsm/tracker_impl.hpp"
 
@@ -37,6 +37,13 @@ CvsmResult CvsmTracker::Impl::settle(const BitMask& frontal, const BitMask& late
     ++candidates;  // that evaluation
   }
   anchored = !searched_globally;  // refined as it was searched
+  // With auto limbs the search kept its whole budget, and the next pair's
+  // starts from where it ended, not from the refined pose: refined starts
+  // led the searches elsewhere (docs/cvsm.md, "Outline refinement": reach,
+  // 28496, drifted to 61 mm over six pairs with the arm out). With fixed
+  // limbs the search was cut to its coarse steps and goes on from the
+  // refined pose.
+  if (opt.limbs == LimbMode::Auto) searched_pose = pose;
   candidates += refine(frontal, lateral, opt.refine_steps);
   anchored = true;
   return finish(TrackingState::Tracking, candidates, flag);

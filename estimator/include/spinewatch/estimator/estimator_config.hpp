@@ -42,7 +42,7 @@ struct CvsmConfig {
   int provisional_frames = 3;        // of them, after which its fit is published as tracking (docs/cvsm.md, "Provisional model")
   double new_subject_after_s = 2;    // someone in view after an empty scene this long: a new subject model; 0 = never
   double lost_cost = 0.35;           // cost above which tracking is lost
-  int refine_steps = 0;              // outline refinement of each fit: Gauss–Newton steps, 0 = off
+  int refine_steps = 1;              // outline refinement of each fit: Gauss–Newton steps, 0 = off
   LimbMode limbs = LimbMode::Auto;   // "auto", "fixed" or "articulated" (docs/cvsm.md, "Articulated limbs", "Arms where the views show them")
   HeadingRange heading = HeadingRange::Front;  // "fixed", "front" or "any" (docs/cvsm.md, "Heading")
   bool operator==(const CvsmConfig&) const = default;

@@ -64,10 +64,10 @@ struct CvsmOptions {
   // Then, with refine_steps > 0 (config [cvsm] refine_steps), the pose
   // found is refined on the outline: that many Gauss–Newton steps pulling
   // the full model's outline ends on every n-th row to the silhouettes'
-  // edges (docs/cvsm.md, "Outline refinement"). Off by default (it turned
-  // more postures with raised arms confidently wrong); with fixed limbs
-  // only (articulated, it has no effect).
-  int refine_steps = 0;
+  // edges (docs/cvsm.md, "Outline refinement"). With auto limbs the
+  // refined pose is published and the next pair is searched from the
+  // searched one; with articulated limbs it has no effect.
+  int refine_steps = 1;
   int refine_row_step = 2;
   LimbMode limbs = LimbMode::Auto;  // config [cvsm] limbs
   HeadingRange heading = HeadingRange::Front;  // config [cvsm] heading
