@@ -92,7 +92,7 @@ TEST(LiveViewBrowser, TheSpineViewFollowsThePhantomAndAScreenshotIsTaken) {
     std::smatch truth;
     ASSERT_TRUE(std::regex_search(r.output, truth, std::regex(R"(every vertebra \(mean\)</td><td>([0-9.]+) mm)")))
         << "no ground-truth figures on the page";
-    EXPECT_LE(std::stod(truth[1]), 17.1) << "the demo is further off than docs/accuracy.md states";
+    EXPECT_LE(std::stod(truth[1]), 16.7) << "the demo is further off than docs/accuracy.md states";
     // Legs cut at the bottom are tolerated (docs/daemon.md): shown as fine, not as a warning.
     static const std::regex cut_at_bottom(R"re(<td class="(\w*)">cut at bottom</td>)re");
     for (auto it = std::sregex_iterator(r.output.begin(), r.output.end(), cut_at_bottom);
