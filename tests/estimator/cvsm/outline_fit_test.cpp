@@ -298,6 +298,17 @@ TEST(OutlineFit, APriorPullsTowardsItsCentre) {
   EXPECT_LT(std::abs(free[5] - s.truth[5]), 2.0);
 }
 
+// The self-consistency sequence of cvsm_test: ten upright pairs (the
+// subject model), then a bend forward, sideways and twisted, and back.
+std::vector<CvsmPose> upright_then_bending() {
+  std::vector<CvsmPose> poses(10, CvsmPose{});
+  for (int i = 0; i <= 40; ++i) {
+    const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);
+    poses.push_back(bend(50 * s, 12 * s, 6 * s));
+  }
+  return poses;
+}
+
 // The refinement on the self-consistency sequence of cvsm_test (another
 // subject's model drawn by the OpenCV reference, bending and back): the
 // fit comes out closer to that subject's neck and waist, with more cost
@@ -308,11 +319,7 @@ TEST(OutlineFit, APriorPullsTowardsItsCentre) {
 TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel subject = other_subject();
-  std::vector<CvsmPose> poses(10, CvsmPose{});
-  for (int i = 0; i <= 40; ++i) {
-    const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);
-    poses.push_back(bend(50 * s, 12 * s, 6 * s));
-  }
+  const std::vector<CvsmPose> poses = upright_then_bending();
   struct Run {
     double error = 0;  // neck and waist, mean over the tracked pairs, mm
     double candidates = 0;
@@ -371,11 +378,7 @@ TEST(CvsmRefinement, BringsTheFitCloserToAnotherSubjectsPose) {
 TEST(CvsmRefinement, WithAutoLimbsEachPostureIsOneStepFromTheUnrefinedSearch) {
   const CameraRig rig = CameraRig::default_rig();
   const BodyModel subject = other_subject();
-  std::vector<CvsmPose> poses(10, CvsmPose{});
-  for (int i = 0; i <= 40; ++i) {
-    const double s = 0.5 - 0.5 * std::cos(M_PI * i / 20.0);
-    poses.push_back(bend(50 * s, 12 * s, 6 * s));
-  }
+  const std::vector<CvsmPose> poses = upright_then_bending();
   CvsmOptions plain_options, refined_options;
   plain_options.spine_placement = refined_options.spine_placement = SpinePlacementMode::Generic;
   ASSERT_EQ(refined_options.limbs, LimbMode::Auto);
