@@ -94,9 +94,9 @@ TEST(ProvisionalModel, NoEarlyPostureOnceTheBuildingWasInterrupted) {
 // arms_overhead, 60 person frames): the building's cost rises from 0.09 to
 // 0.21–0.26 as the shape takes in the raised arms. The pair that completes
 // the model is withheld (moved_while_building) and the next one that
-// passes is held as reacquiring; the fit goes on from them. Measured here:
-// those two were 107 and 60 mm off (11953) and 43 and 21 mm (28496), and
-// the first tracking pair after them 43 and 14 mm. Unwithheld, the
+// passes is held as reacquiring; the fit goes on from them. Measured here
+// for 11953: those two were 107 and 60 mm off, the first tracking pair
+// after them 43 mm. Unwithheld, the
 // completing pair was tracking 91 mm (11953) and 60 mm (28496) off on the
 // baseline's recordings (docs/cvsm.md, "Provisional model"). Later in the
 // clip, as 11953's arms come down, one pair is still tracking 72 mm off
