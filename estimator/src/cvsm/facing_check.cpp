@@ -58,4 +58,21 @@ HeadingChoice weigh_against_mirror(const SubjectEstimate& s, XorCost& cost, cons
   return choice;
 }
 
+int seat_if_turned_away(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                        const CvsmOptions& options) {
+  if (options.posture || s.shape.posture != SubjectPosture::Standing) return 0;
+  std::vector<Eigen::Vector3d> points;
+  const std::int64_t standing_cost = subject_cost(s, cost, spec, spine, points, INT64_MAX);
+  SubjectEstimate away = s;
+  away.pose = turned_in_place(build(s, spec, spine), spine, s.pose, wrapped_heading(180 - s.pose.heading));
+  const int evaluations = choose_posture(away, cost, spec, spine, options) + 2;
+  if (away.shape.posture != SubjectPosture::Seated ||
+      subject_cost(away, cost, spec, spine, points, INT64_MAX) >= standing_cost)
+    return evaluations;
+  const double allowed = s.pose.heading;
+  s = away;
+  s.pose = turned_in_place(build(away, spec, spine), spine, away.pose, allowed);
+  return evaluations;
+}
+
 }  // namespace spinewatch::cvsm_detail

@@ -30,6 +30,21 @@ namespace spinewatch::cvsm_detail {
 HeadingChoice weigh_against_mirror(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec,
                                    const SpineSpec& spine);
 
+// A subject chosen standing at heading h (one the range allows) that sits
+// with his back to the frontal camera: seated, facing the other way, his
+// thighs point where a seated model facing h would have its back, so the
+// seated model loses at h and the standing one wins there (seated_flexion
+// turned 180°: a man of 1 689 mm taken for a standing one of 1 325, every
+// posture 160–210 mm off, a forward bend read as an extension). Standing
+// against its mirror, neither side's straight legs say which way he faces.
+// So the posture is chosen again at the reflection (180° − h, the heading
+// whose frontal view is the same); when seated there fits better than
+// standing at h, `s` becomes that seated estimate turned back to h, and the
+// facing side is then weighed seated (weigh_against_mirror), where the
+// thighs tell it. Returns the cost evaluations spent.
+int seat_if_turned_away(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                        const CvsmOptions& options);
+
 // What the tracker knows of the side the subject faces when the range does
 // not take the side turned away. Summed over the pairs weighed, as over the
 // full circle (FrontBackEvidence): the mirror is believed only when the sum

@@ -120,12 +120,6 @@ ShapeParams params_of(const SubjectEstimate& s, double t1) {
           s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y, s.pose.twist};
 }
 
-std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
-                          std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
-  const BodyModel m = build(s, spec, spine);
-  control_points(m, pose_vertebrae(m, spine, s.pose), points, {}, s.pose.heading);
-  return cost.evaluate(m, points, limit).total();
-}
 
 // The measured placement for this estimate: the standing T1 and L5 of
 // people of the subject's stature and where L5 hangs from the crown.
@@ -173,6 +167,13 @@ void set_spine_depth(BodyShape& shape, const SubjectEstimate& s, const CvsmSpec&
 }
 
 }  // namespace
+
+std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                          std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
+  const BodyModel m = build(s, spec, spine);
+  control_points(m, pose_vertebrae(m, spine, s.pose), points, {}, s.pose.heading);
+  return cost.evaluate(m, points, limit).total();
+}
 
 BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& generic_spine) {
   Eigen::Vector3d l5 = s.base_l5;

@@ -61,5 +61,9 @@ CvsmOptions without_given_body(CvsmOptions o);
 int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    int budget = 160);
 BodyModel build(const SubjectEstimate& subject, const CvsmSpec& spec, const SpineSpec& spine);
+// The estimate's XOR cost against the current silhouettes (`points` is
+// scratch).
+std::int64_t subject_cost(const SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
+                          std::vector<Eigen::Vector3d>& points, std::int64_t limit);
 
 }  // namespace spinewatch::cvsm_detail

@@ -43,8 +43,10 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
       heading_resolved = front_back.decided();
       fresh.pose.heading = front_back.heading(heading);
     }
-    if (heading_resolved && fresh.pose.heading != subject->pose.heading)
-      subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, fresh.pose.heading);
+    // Held turned away, the heading found on the allowed side is his
+    // reflection's (tracker_heading.cpp).
+    if (heading_resolved && on_allowed_side(fresh.pose.heading) != subject->pose.heading)
+      subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, on_allowed_side(fresh.pose.heading));
   }
   if (facing_guard.weighing() && opt.heading != HeadingRange::Any) {
     cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, subject->pose.heading);
@@ -85,7 +87,7 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     if (held_away) hold_turned_away(frontal, lateral, r);
     withhold_unexplained_legs(frontal, lateral, r);
     if (moved_while_building) withhold_moved_while_building(r);
-  } else if (init_frames >= opt.provisional_frames && heading_resolved && !held_away && facing_settled() &&
+  } else if (init_frames >= opt.provisional_frames && heading_resolved && facing_settled() &&
              !building_interrupted && pelvis_seen(frontal, lateral, r) &&
              head_placed(frontal, lateral, r)) {
     publish_provisional(r);
@@ -117,9 +119,12 @@ int CvsmTracker::Impl::start_subject(const BitMask& frontal, const BitMask& late
   subject->lower_body_hidden = hiding[0] || hiding[1];
   facing_guard = {};
   held_away = false;
+  away_followed = false;
   built_silhouette_px = 0;
   building_interrupted = false;
-  if (opt.heading == HeadingRange::Fixed) return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
+  if (opt.heading == HeadingRange::Fixed)
+    return cvsm_detail::choose_posture(*subject, *cost, spec, spine, options) +
+           cvsm_detail::seat_if_turned_away(*subject, *cost, spec, spine, options);
   // The heading is chosen on the posture the first pair's estimate starts
   // from (standing). A seated adult facing the frontal camera drew better
   // as a standing one turned 30° than facing it (ANSUR 27006, seated
@@ -135,6 +140,10 @@ int CvsmTracker::Impl::start_subject(const BitMask& frontal, const BitMask& late
     evaluations += heading.evaluations;
     if (subject->pose.heading != chosen) evaluations += cvsm_detail::choose_posture(*subject, *cost, spec, spine, options);
   }
+  // Out of the range's reach the side turned away is weighed on each
+  // pair (weigh_facing); seated with his back to the camera, the standing
+  // model is what would be weighed (facing_check.hpp).
+  if (opt.heading != HeadingRange::Any) evaluations += cvsm_detail::seat_if_turned_away(*subject, *cost, spec, spine, options);
   heading_resolved = heading.resolved();
   front_back = {};
   if (heading.sides_compared) {

@@ -29,7 +29,7 @@ int CvsmTracker::Impl::follow_heading(std::int64_t current_cost) {
   std::int64_t best = current_cost - gain;
   const double start = pose.heading;
   for (const double step : {kHeadingStepDeg, -kHeadingStepDeg}) {
-    if (!cvsm_detail::heading_allowed(opt.heading, start + step)) continue;
+    if (!cvsm_detail::heading_allowed(opt.heading, on_allowed_side(start + step))) continue;
     CvsmPose trial = pose;
     trial.heading = cvsm_detail::wrapped_heading(start + step);
     const std::int64_t c = cost_of(trial, a, best);
@@ -41,18 +41,26 @@ int CvsmTracker::Impl::follow_heading(std::int64_t current_cost) {
   // A turn off the preferred heading (facing the frontal camera, or over
   // the full circle the back to it) is kept only while it wins by the
   // preference for it (subject_heading.hpp), judged every pair.
-  const double preferred = cvsm_detail::preferred_heading(opt.heading, pose.heading);
+  const double preferred =
+      on_allowed_side(cvsm_detail::preferred_heading(opt.heading, on_allowed_side(pose.heading)));
   if (cvsm_detail::wrapped_heading(pose.heading) != preferred) {
     CvsmPose facing = pose;
     facing.heading = preferred;
     const std::int64_t facing_cost = cost_of(facing, a, INT64_MAX);
     const std::int64_t turned_cost = best < current_cost - gain ? best : current_cost;
-    if (turned_cost >= cvsm_detail::cost_to_beat_facing(opt.heading, pose.heading, facing_cost,
+    if (turned_cost >= cvsm_detail::cost_to_beat_facing(opt.heading, on_allowed_side(pose.heading), facing_cost,
                                                         static_cast<std::int64_t>(static_cast<double>(silhouette_px) / cost->row_step())))
       pose = facing;
     return 3;
   }
   return 2;
+}
+
+// Held turned away, the subject is followed on the side turned away: each
+// heading is judged as its reflection (180° − h, the heading the frontal
+// camera cannot tell from it), which the range allows.
+double CvsmTracker::Impl::on_allowed_side(double heading_deg) const {
+  return held_away ? cvsm_detail::wrapped_heading(180 - heading_deg) : heading_deg;
 }
 
 // At (re)acquisition the subject may have turned any way: the full
@@ -70,8 +78,8 @@ int CvsmTracker::Impl::probe_headings() {
   };
   std::vector<Probe> probes;
   std::size_t best = 0;
-  for (const double h : cvsm_detail::heading_probes(opt.heading, pose.heading)) {
-    const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, h);
+  for (const double h : cvsm_detail::heading_probes(opt.heading, on_allowed_side(pose.heading))) {
+    const CvsmPose trial = cvsm_detail::turned_in_place(model, spine, upright, on_allowed_side(h));
     probes.push_back({trial, cost_of(trial, to_params(trial), INT64_MAX)});
     if (probes.back().cost < probes[best].cost) best = probes.size() - 1;
   }
@@ -81,9 +89,9 @@ int CvsmTracker::Impl::probe_headings() {
   // The front range prefers facing the frontal camera (subject_heading.hpp).
   for (std::size_t i = 0; i < probes.size(); ++i)
     if (cvsm_detail::wrapped_heading(probes[i].pose.heading) ==
-            cvsm_detail::preferred_heading(opt.heading, probes[best].pose.heading) &&
-        probes[best].cost >=
-            cvsm_detail::cost_to_beat_facing(opt.heading, probes[best].pose.heading, probes[i].cost, silhouette_px))
+            on_allowed_side(cvsm_detail::preferred_heading(opt.heading, on_allowed_side(probes[best].pose.heading))) &&
+        probes[best].cost >= cvsm_detail::cost_to_beat_facing(opt.heading, on_allowed_side(probes[best].pose.heading),
+                                                              probes[i].cost, silhouette_px))
       best = i;
   std::int64_t other_side = INT64_MAX;
   for (const Probe& p : probes)
@@ -108,6 +116,7 @@ int CvsmTracker::Impl::weigh_facing(cvsm_detail::SubjectEstimate& s, bool comple
   facing_guard.add(choice);
   if (facing_guard.says_away() || (completes && facing_guard.leans_away())) {
     held_away = true;
+    away_followed = opt.heading == HeadingRange::Front && facing_guard.says_away();
     s.pose = cvsm_detail::turned_in_place(cvsm_detail::build(s, spec, spine), spine, s.pose, choice.away_heading);
   }
   return choice.evaluations;
@@ -131,9 +140,13 @@ cvsm_detail::SubjectEstimate CvsmTracker::Impl::fresh_at_allowed_heading(const B
       cvsm_detail::initial_subject(rig, spec, spine, placing_options(), frontal, lateral);
   fresh.measured_spine = subject->measured_spine;
   fresh.shape.posture = subject->shape.posture;
+  // Turned away, the allowed heading is his reflection (180° − h): the one
+  // whose frontal outline is his, which weigh_against_mirror weighs him
+  // against. (His heading turned 180° weighed a subject at 240° as 60°
+  // against 120°, both a third of a turn from him, and the allowed side won.)
   const double allowed = cvsm_detail::heading_allowed(opt.heading, heading_deg)
                              ? heading_deg
-                             : cvsm_detail::wrapped_heading(heading_deg + 180);
+                             : cvsm_detail::wrapped_heading(180 - heading_deg);
   if (allowed != fresh.pose.heading)
     fresh.pose = cvsm_detail::turned_in_place(cvsm_detail::build(fresh, spec, spine), spine, fresh.pose, allowed);
   return fresh;
@@ -152,6 +165,7 @@ void CvsmTracker::Impl::weigh_reacquired(const BitMask& frontal, const BitMask& 
   facing_guard.add(choice);
   if (!facing_guard.says_away()) return;
   held_away = true;
+  away_followed = false;
   pose = cvsm_detail::turned_in_place(model, spine, pose, choice.away_heading);
   facing_guard.restart();
 }
@@ -168,13 +182,14 @@ void CvsmTracker::Impl::hold_turned_away(const BitMask& frontal, const BitMask& 
     facing_guard.add(choice);
     if (facing_guard.says_back()) {
       held_away = false;
+      away_followed = false;
       pose = cvsm_detail::turned_in_place(model, spine, pose, choice.facing_heading);
       facing_guard.restart();
     } else if (facing_guard.leans_away()) {
       facing_guard.restart();  // still turned away: the next weighing starts afresh
     }
   }
-  if (r.state == TrackingState::Tracking) {
+  if (r.state == TrackingState::Tracking && !away_followed) {
     r.state = TrackingState::Lost;
     // Turned away says more than an unresolved twist (of a mirror image).
     if (!r.fit.flag || *r.fit.flag == kTwistUnresolvedFlag) r.fit.flag = std::string(kFacingAwayFlag);
@@ -182,7 +197,7 @@ void CvsmTracker::Impl::hold_turned_away(const BitMask& frontal, const BitMask& 
 }
 
 bool CvsmTracker::Impl::facing_settled() const {
-  return opt.heading == HeadingRange::Any || facing_guard.says_allowed();
+  return opt.heading == HeadingRange::Any || facing_guard.says_allowed() || away_followed;
 }
 
 }  // namespace spinewatch

@@ -193,6 +193,11 @@ struct CvsmTracker::Impl {
   // side he faces, and whether he is held turned away (nothing tracking).
   cvsm_detail::FacingGuard facing_guard;
   bool held_away = false;
+  // Held turned away by the margin the side turned away needs
+  // (kAwayPreferenceFraction, summed over the building pairs): the
+  // subject is followed and published turned away, as over the full circle.
+  bool away_followed = false;
+  double on_allowed_side(double heading_deg) const;
   // Whether an early posture may be published as to the side faced: the
   // facing check has decided for the allowed side (over the full circle,
   // heading_resolved says it). Undecided, the model may be its own mirror
