@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -242,8 +243,14 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMa
     result.status = SilhouetteStatus::NoPerson;
   } else {
     result.pixels = blobs.largest_px;
-    if (blobs.second_px >= options_.min_blob_px &&
-        static_cast<double>(blobs.second_px) >= options_.second_blob_fraction * static_cast<double>(blobs.largest_px))
+    // A second blob that keeps still is scenery the stored background
+    // does not hold (a moved chair), not a rival for the person's blob
+    // (still_scenery.hpp); one that moves may be another person.
+    const bool second_blob =
+        blobs.second_px >= options_.min_blob_px &&
+        static_cast<double>(blobs.second_px) >= options_.second_blob_fraction * static_cast<double>(blobs.largest_px);
+    const bool beside_still = modelled && beside_person_still(result.mask);
+    if (second_blob && !beside_still)
       result.status = SilhouetteStatus::TwoBlobs;
     else if (blobs.x_min == 0 || blobs.x_max == width_ - 1)
       result.status = SilhouetteStatus::Occluded;
@@ -255,6 +262,29 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMa
     gain_ = result.gain;
   }
   return result;
+}
+
+// This frame's foreground outside the person's blob kept still
+// (StillScenery), from the foreground before the gate: while tracking, the
+// gate cuts a blob away from the person's, and a blob that comes and goes
+// with the gate would not look still. And the person's blob is the one it
+// was on the last frame (half of it in the same place): two people of
+// about one size, one standing still, trade places as the largest blob,
+// and whichever is not the largest must not pass for scenery.
+bool SilhouetteExtractor::beside_person_still(const BitMask& person) {
+  BitMask other = foreground_;
+  std::int64_t person_kept = 0;
+  const bool had_person = person_.width() == width_ && person_.height() == height_;
+  for (int y = 0; y < height_; ++y) {
+    std::uint64_t* row = other.row(y);
+    const std::uint64_t* p = person.row(y);
+    for (int w = 0; w < other.words_per_row(); ++w) {
+      row[w] &= ~p[w];
+      if (had_person) person_kept += std::popcount(p[w] & person_.row(y)[w]);
+    }
+  }
+  const bool still = scenery_.still(other);
+  return still && 2 * person_kept >= person.count();
 }
 
 void SilhouetteExtractor::adapt(const LumaView& frame, const BitMask* person) {

@@ -11,6 +11,7 @@
 #include "spinewatch/estimator/silhouette/background_bootstrap.hpp"
 #include "spinewatch/estimator/silhouette/background_model.hpp"
 #include "spinewatch/estimator/silhouette/bit_mask.hpp"
+#include "spinewatch/estimator/silhouette/still_scenery.hpp"
 #include "spinewatch/frames/frame.hpp"
 #include "spinewatch/frames/result.hpp"
 
@@ -104,6 +105,7 @@ class SilhouetteExtractor {
   SilhouetteStatus start_background(const LumaView& frame);
   double estimate_gain(const LumaView& frame) const;
   void threshold_to_bits(const LumaView& frame, double gain, BitMask& out) const;
+  bool beside_person_still(const BitMask& person);
 
   SilhouetteOptions options_;
   int width_ = 0, height_ = 0;
@@ -113,6 +115,7 @@ class SilhouetteExtractor {
   BitMask foreground_;          // every blob of the last frame, for the adaptation
   BitMask person_;              // the last frame's person blob (empty: none)
   double gain_ = 1.0;           // the last frame's exposure gain
+  StillScenery scenery_;        // whether the foreground beside the person keeps still
 };
 
 // Cleaning steps, exposed for tests.
