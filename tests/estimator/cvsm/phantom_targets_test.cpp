@@ -89,6 +89,11 @@ const TargetRow kRows[] = {
     {"pair_angle_135", "flexion", changed_station([](auto& g) { g.pair_angle_deg = 135; })},
     {"heading_30", "flexion", std::nullopt, 30},
     {"heading_90", "flexion", std::nullopt, 90},
+    // His back to the frontal camera, followed by the front range where the
+    // views decide that side (docs/cvsm.md, "Followed turned away").
+    {"heading_180", "flexion", std::nullopt, 180},
+    {"seated_flexion_heading_180", "seated_flexion", std::nullopt, 180},
+    {"lateral_right_heading_180", "lateral_right", std::nullopt, 180},
     {"lateral_left", "lateral_left", std::nullopt},
     {"lateral_right", "lateral_right", std::nullopt},
     {"combined", "combined", std::nullopt},
