@@ -120,7 +120,6 @@ ShapeParams params_of(const SubjectEstimate& s, double t1) {
           s.pose.flexion, s.pose.lateral, s.pose.pelvis_flexion, s.crown_y, s.pose.twist};
 }
 
-
 // The measured placement for this estimate: the standing T1 and L5 of
 // people of the subject's stature and where L5 hangs from the crown.
 // Standing, the crown is the stature; seated, the stature is the height
