@@ -272,7 +272,8 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMa
 // about one size, one standing still, trade places as the largest blob,
 // and whichever is not the largest must not pass for scenery.
 bool SilhouetteExtractor::beside_person_still(const BitMask& person) {
-  BitMask other = foreground_;
+  BitMask& other = beside_;
+  other = foreground_;  // the same size every frame: no allocation after the first
   std::int64_t person_kept = 0;
   const bool had_person = person_.width() == width_ && person_.height() == height_;
   for (int y = 0; y < height_; ++y) {

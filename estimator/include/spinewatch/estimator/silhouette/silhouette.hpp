@@ -116,6 +116,7 @@ class SilhouetteExtractor {
   BitMask person_;              // the last frame's person blob (empty: none)
   double gain_ = 1.0;           // the last frame's exposure gain
   StillScenery scenery_;        // whether the foreground beside the person keeps still
+  BitMask beside_;              // scratch: the foreground outside the person's blob
 };
 
 // Cleaning steps, exposed for tests.
