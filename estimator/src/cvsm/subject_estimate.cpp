@@ -170,7 +170,7 @@ void set_spine_depth(BodyShape& shape, const SubjectEstimate& s, const CvsmSpec&
 std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                           std::vector<Eigen::Vector3d>& points, std::int64_t limit) {
   const BodyModel m = build(s, spec, spine);
-  control_points(m, pose_vertebrae(m, spine, s.pose), points, {}, s.pose.heading);
+  control_points(m, pose_vertebrae(m, spine, s.pose), points, s.pose.limbs, s.pose.heading);
   return cost.evaluate(m, points, limit).total();
 }
 

@@ -55,6 +55,11 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
       subject->pose = cvsm_detail::turned_in_place(cvsm_detail::build(*subject, spec, spine), spine, subject->pose,
                                                    fresh.pose.heading);
   }
+  // Auto limbs: the arms found first, on the model built so far, and the
+  // shape refined with them (subject_cost draws the pose's limbs): arms
+  // raised while the model is built are then not taken into its height and
+  // breadths.
+  if (opt.limbs == LimbMode::Auto && init_frames > 0) building_arms(frontal, lateral, flag, candidates);
   candidates += cvsm_detail::refine_subject(*subject, *cost, spec, spine);
   model = cvsm_detail::build(*subject, spec, spine);
   search_model = thin_trunk(model, opt.search_vertebra_step);
@@ -71,15 +76,6 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
   if (init_frames >= opt.subject_frames && heading_resolved) {
     built_silhouette_px = *r.fit.silhouette_frontal_px + *r.fit.silhouette_lateral_px;
     const bool moved_while_building = r.fit.cost > best_before + kBuildingCostRise;
-    // The pair that completes the model gets the arms a tracked pair gets
-    // where the fixed fit leaves the arms' evidence (raised while the model
-    // was built): without them the trunk leans to the arms' outline.
-    if (opt.limbs == LimbMode::Auto) {
-      // The twist's sign is not judged on this pair, as it never was on
-      // the building's last pair: try_arms' check is not used here.
-      TwistCheck unused;
-      try_arms(r, unused, pose, false, flag, frontal, lateral);
-    }
     r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
     phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
     withhold_unseen_pelvis(frontal, lateral, r);
@@ -93,6 +89,29 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     publish_provisional(r);
   }
   return r;
+}
+
+// A building pair after the first gets the arms a tracked pair gets
+// (try_arms), on the model built so far: where the fit with the arms
+// hanging rises over the building's best by kBuildingCostRise — the rise
+// at which the building starts taking a posture into the shape — or the
+// arms were raised on the pair before. Where they explain the views, the
+// subject's pose holds them and its shape is refined with them.
+void CvsmTracker::Impl::building_arms(const BitMask& frontal, const BitMask& lateral, std::string_view flag,
+                                      int& candidates) {
+  model = cvsm_detail::build(*subject, spec, spine);
+  search_model = thin_trunk(model, opt.search_vertebra_step);
+  armless_model = without_arms(search_model);
+  pose = subject->pose;
+  const CvsmPose before = pose;
+  pose.limbs = {};  // the fixed fit has the arms hanging, as on a tracked pair
+  CvsmResult r = finish(TrackingState::Init, 0, flag);
+  // The twist's sign is not judged on the building's pairs: try_arms'
+  // check is not used here.
+  TwistCheck unused;
+  try_arms(r, unused, before, false, flag, frontal, lateral, ArmsPass::Building);
+  candidates += r.fit.candidates.value_or(0);
+  subject->pose = pose;
 }
 
 // The pair that completes the model fits worse than the building's best by

@@ -151,6 +151,10 @@ struct CvsmTracker::Impl {
   // (try_arms; the refinement's gate, refine_follows, too). A ratio of the
   // silhouettes' pixels (the reported cost).
   static constexpr double kArmsEvidenceRise = 0.1;
+  // Which pair the arms' pass runs on: a tracked one, or a building one
+  // (building_arms: searched from a smaller rise, kBuildingCostRise, and
+  // held to a stricter bound on the legs, as the pair shapes the model).
+  enum class ArmsPass { Tracked, Building };
   bool arms_pass = false;  // the arms' search of the auto mode is running
   bool wide_arms = false;  // ... and it starts from hanging arms
   bool searching_limbs() const;
@@ -160,7 +164,7 @@ struct CvsmTracker::Impl {
   template <class LimbCost>
   int place_arms(LimbParams& best, std::int64_t& best_cost, LimbCost& limb_cost);
   void try_arms(CvsmResult& r, TwistCheck& twist, const CvsmPose& before, bool searched_globally, std::string_view flag,
-                const BitMask& frontal, const BitMask& lateral);
+                const BitMask& frontal, const BitMask& lateral, ArmsPass pass = ArmsPass::Tracked);
 
   // --- tracker_refine.cpp: the outline refinement
   std::array<cvsm_detail::SilhouetteEdges, 2> edges;  // the pair's silhouettes' edges (refine)
@@ -222,6 +226,7 @@ struct CvsmTracker::Impl {
   // rose to 0.039 at 20 mm (docs/cvsm.md, "Provisional model").
   static constexpr double kBuildingCostRise = 0.04;
   void withhold_moved_while_building(CvsmResult& r);
+  void building_arms(const BitMask& frontal, const BitMask& lateral, std::string_view flag, int& candidates);
   // Both views' silhouette pixels on the pair that completed the model: what
   // a tracked pair's misfit is weighed against where its own outline is
   // smaller (XorCounts::cost_against). 0 while the model is being built.

@@ -355,14 +355,18 @@ TEST(CvsmLimbs, AutoIsTheFixedFitWhereTheLimbsAreStill) {
   fixed_options.refine_steps = auto_options.refine_steps = 0;
   CvsmTracker fixed(rig, fixed_options), automatic(rig, auto_options);
   int tracked = 0;
-  for (const CvsmPose& p : poses) {
-    const Views v = render(rig, subject, p);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Views v = render(rig, subject, poses[i]);
     const CvsmResult a = fixed.track(v.frontal, v.lateral), b = automatic.track(v.frontal, v.lateral);
     ASSERT_EQ(a.state, b.state);
     tracked += a.state == TrackingState::Tracking;
     EXPECT_TRUE(b.pose.limbs.neutral());
     EXPECT_EQ(a.fit.cost, b.fit.cost);
-    EXPECT_EQ(a.fit.candidates, b.fit.candidates);
+    // The building's pairs after the first spend one evaluation more: the
+    // arms' gate, the fit with the arms hanging on the model built so far
+    // (building_arms).
+    const int gate = i >= 1 && i < std::size_t(auto_options.subject_frames) ? 1 : 0;
+    EXPECT_EQ(a.fit.candidates.value_or(0) + gate, b.fit.candidates.value_or(0)) << "pair " << i;
     for (std::size_t k = 0; k < kVertebraCount; ++k) {
       EXPECT_EQ(a.vertebrae[k].body_center, b.vertebrae[k].body_center) << "vertebra " << k;
       EXPECT_EQ(a.vertebrae[k].q.coeffs(), b.vertebrae[k].q.coeffs()) << "vertebra " << k;

@@ -3,6 +3,7 @@
 // the early postures raise the share of person frames estimated to 90 %
 // and more without one confidently wrong posture, and the checks of their
 // own hold back the early pairs that were wrong on the varied phantom.
+#include <algorithm>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -90,42 +91,73 @@ TEST(ProvisionalModel, NoEarlyPostureOnceTheBuildingWasInterrupted) {
   EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
 }
 
-// Arms going overhead while the model is built (the phantom's
-// arms_overhead, 60 person frames): the building's cost rises from 0.09 to
-// 0.21–0.26 as the shape takes in the raised arms. The pair that completes
-// the model is withheld (moved_while_building) and the next one that
-// passes is held as reacquiring; the fit goes on from them. Measured here
-// for 11953: those two were 107 and 60 mm off, the first tracking pair
-// after them 43 mm. Unwithheld, the
-// completing pair was tracking 91 mm (11953) and 60 mm (28496) off on the
-// baseline's recordings (docs/cvsm.md, "Provisional model"). Later in the
-// clip, as 11953's arms come down, one pair is still tracking 72 mm off
-// (issue 31); this test holds the first 20 person pairs.
-TEST(ProvisionalModel, ThePairCompletingAModelBuiltWhileTheArmsRoseIsWithheld) {
+// The first 20 person pairs of the phantom's arms_overhead (60 person
+// frames) for one subject, the raw tracker at its defaults.
+struct ArmsRising {
+  int tracking = 0;
+  int moved = 0;        // withheld, moved_while_building
+  int reacquiring = 0;  // held after it
+  int wrong = 0;        // tracking more than kWrongMm off
+  double worst_mm = 0;
+};
+
+ArmsRising track_arms_rising(int id) {
   constexpr int kHeldPairs = 20;
-  for (const int id : {11953, 28496}) {
-    phantom::PhantomOptions po = ansur_flexion(id, 60);
-    po.scenario = "arms_overhead";
-    int person = 0, moved = 0, reacquiring = 0, wrong_early = 0;
-    test::track_for_trust(
-        po, CvsmOptions{}, "arms overhead " + std::to_string(id), {},
-        [&](const phantom::PhantomFrame& f, const CvsmResult& r) {
-          if (person++ >= kHeldPairs) return;
-          if (r.state == TrackingState::Lost && r.fit.flag) {
-            moved += *r.fit.flag == kMovedWhileBuildingFlag;
-            reacquiring += *r.fit.flag == kReacquiringFlag;
-          }
-          if (r.state != TrackingState::Tracking) return;
-          for (std::size_t k = 0; k < kVertebraCount; ++k)
-            if ((r.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm() > test::kWrongMm) {
-              ++wrong_early;
-              break;
-            }
-        });
-    EXPECT_EQ(moved, 1) << id;
-    EXPECT_EQ(reacquiring, 1) << id;
-    EXPECT_EQ(wrong_early, 0) << id;
-  }
+  phantom::PhantomOptions po = ansur_flexion(id, 60);
+  po.scenario = "arms_overhead";
+  ArmsRising a;
+  int person = 0;
+  test::track_for_trust(po, CvsmOptions{}, "arms overhead " + std::to_string(id), {},
+                        [&](const phantom::PhantomFrame& f, const CvsmResult& r) {
+                          if (person++ >= kHeldPairs) return;
+                          if (r.state == TrackingState::Lost && r.fit.flag) {
+                            a.moved += *r.fit.flag == kMovedWhileBuildingFlag;
+                            a.reacquiring += *r.fit.flag == kReacquiringFlag;
+                          }
+                          if (r.state != TrackingState::Tracking) return;
+                          ++a.tracking;
+                          double worst = 0;
+                          for (std::size_t k = 0; k < kVertebraCount; ++k)
+                            worst = std::max(worst, (r.vertebrae[k].body_center -
+                                                     (*f.truth.vertebrae)[k].body_center)
+                                                        .norm());
+                          a.worst_mm = std::max(a.worst_mm, worst);
+                          a.wrong += worst > test::kWrongMm;
+                        });
+  return a;
+}
+
+// Arms going overhead while the model is built: the building's cost rises
+// from 0.08 to 0.2 and more. The building's pairs after the first get the
+// arms' pass (building_arms) and the shape is refined with the arms where
+// it found them, so the raised arms are not taken into the height and
+// breadths. Measured for 28496: 18 of the 20 tracking, the worst vertebra
+// 21 mm off, none withheld; before, the shape took the arms in, the pair
+// completing the model was withheld (moved_while_building) and the next
+// held (reacquiring): 12 tracking, and 52 of his 60 person pairs against
+// 58 now.
+TEST(ProvisionalModel, ArmsRaisedWhileTheModelIsBuiltAreDrawnAndTracked) {
+  const ArmsRising a = track_arms_rising(28496);
+  EXPECT_EQ(a.moved + a.reacquiring, 0);
+  EXPECT_GE(a.tracking, 17);
+  EXPECT_EQ(a.wrong, 0) << "worst " << a.worst_mm << " mm";
+}
+
+// Where the building's arms' pass leaves more below the waist unexplained
+// than a building pair may (kBuildingArmsLowerResidualMax: 11953's rising
+// arms here), the arms are not drawn and the shape takes them in: the pair
+// that completes the model is withheld and the next one that passes is
+// held as reacquiring; the fit goes on from them. Measured here: those two
+// were 107 and 60 mm off, the first tracking pair after them 43 mm.
+// Unwithheld, the completing pair was tracking 91 mm (11953) and 60 mm
+// (28496) off on the baseline's recordings (docs/cvsm.md, "Provisional
+// model"). Later in the clip, as 11953's arms come down, one pair is still
+// tracking 72 mm off (issue 31); this test holds the first 20 person pairs.
+TEST(ProvisionalModel, ThePairCompletingAModelBuiltWhileTheArmsRoseIsWithheld) {
+  const ArmsRising a = track_arms_rising(11953);
+  EXPECT_EQ(a.moved, 1);
+  EXPECT_EQ(a.reacquiring, 1);
+  EXPECT_EQ(a.wrong, 0) << "worst " << a.worst_mm << " mm";
 }
 
 }  // namespace
