@@ -35,9 +35,9 @@ constexpr double kArmsGain = 0.02;
 // the bound sits between the arms' highest and the stride's lowest.
 constexpr double kArmsLowerResidualMax = 0.10;
 // On a building pair the pair is also built into the subject's shape, so
-// the arms are kept only where the legs are explained as strictly as
-// legs_unexplained.hpp asks (kLegsOutsideShare, the bound the arms' pass
-// had before it was raised for tracked pairs). With the tracked pairs'
+// the arms are kept only where the legs are explained more strictly: the
+// bound this pass had before it was raised for tracked pairs (the share
+// legs_unexplained.hpp's kLegsOutsideShare also takes). With the tracked pairs'
 // 0.10, a lunge's building kept arms at 0.075–0.098 below the waist, and
 // the model built from those pairs was tracked 54–57 mm off three times
 // (ANSUR 28496, 11953) where it had been withheld.
