@@ -25,8 +25,14 @@ double OutlineFit::measure(const Params& a, const PointsOf& points_of) {
   if (!cost_.outline(model_, points_, ends_)) return std::numeric_limits<double>::infinity();
   const double delta = settings_.huber_px;
   double sum = 0;
+  const std::array<const BitMask*, 2> hidden{cost_.hidden(View::Frontal), cost_.hidden(View::Lateral)};
   for (const OutlineEnd& e : ends_) {
     if (e.x <= 0.0f || e.x >= last_x_) continue;
+    // An end where an occluder hides the person (XorCost::set_hidden)
+    // has no edge to meet, and would count window_px for as long as the
+    // model draws it there: the objective would pay the model for
+    // drawing less below a desk's edge, pulling the pelvis up.
+    if (const BitMask* h = hidden[e.view]; h != nullptr && h->get(static_cast<int>(std::lround(e.x)), e.row)) continue;
     const float edge = edges_[e.view]->nearest(e.row, e.x, e.right, settings_.window_px);
     if (std::isnan(edge)) {
       sum += settings_.window_px;

@@ -18,7 +18,9 @@
 // beyond): an arm the silhouette lacks, or a shadow it has, pulls no harder
 // than a pixel's worth. An end with no edge of its kind within window_px
 // counts as window_px and does not pull. Ends clamped to the image's edge
-// do not count: the person may go on beyond it.
+// do not count: the person may go on beyond it; nor do ends on pixels an
+// occluder hides (XorCost::set_hidden), which the XOR does not count
+// either.
 #include <array>
 #include <functional>
 #include <vector>
