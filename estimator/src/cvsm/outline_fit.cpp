@@ -29,9 +29,8 @@ double OutlineFit::measure(const Params& a, const PointsOf& points_of) {
   for (const OutlineEnd& e : ends_) {
     if (e.x <= 0.0f || e.x >= last_x_) continue;
     // An end where an occluder hides the person (XorCost::set_hidden)
-    // has no edge to meet, and would count window_px for as long as the
-    // model draws it there: the objective would pay the model for
-    // drawing less below a desk's edge, pulling the pelvis up.
+    // has no edge to meet: counted as unmatched, the objective would
+    // change with how many ends the pose puts below a desk's edge.
     if (const BitMask* h = hidden[e.view]; h != nullptr && h->get(static_cast<int>(std::lround(e.x)), e.row)) continue;
     const float edge = edges_[e.view]->nearest(e.row, e.x, e.right, settings_.window_px);
     if (std::isnan(edge)) {
