@@ -70,16 +70,20 @@ endfunction()
 # a batch at a time, each batch one translation unit: the inline code of
 # CLI11, nlohmann::json, fmt and Eigen that every source instantiates is
 # then parsed and optimised once a batch instead of once a file (the CLI's
-# 22 sources: 320 s of CPU one by one, 73 s in three batches). Sources of
-# one target therefore must not define the same name at namespace scope,
-# anonymous namespaces included (shared constants: estimator/units.hpp).
+# 22 sources: 320 s of CPU one by one, 73 s in three batches of 8). 16
+# sources a batch: the release build took 1 066 s of CPU against 1 208 s
+# with 8 (docs/testing.md, "Build speed"). Sources of one target therefore
+# must not define the same name at namespace scope, anonymous namespaces
+# included (shared constants: estimator/units.hpp, phantom's
+# backdrop_wall.hpp).
 # GCC's -Wsubobject-linkage is off there: a class with a member of an
 # anonymous-namespace type is fine in a .cpp, and a batch is a .cpp that
 # includes .cpps. Only the debug preset builds file by file, where every
 # source must compile on its own (docs/testing.md, "Build speed").
+set(SPINEWATCH_UNITY_BATCH 16 CACHE STRING "Sources per unity batch (SPINEWATCH_UNITY)")
 function(spinewatch_unity_build target)
   if(SPINEWATCH_UNITY)
-    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${SPINEWATCH_UNITY_BATCH})
     if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
       target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
     endif()

@@ -9,15 +9,14 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "backdrop_wall.hpp"
+
 namespace spinewatch::phantom {
 namespace {
 
 // fillConvexPoly's fixed-point fraction bits: sub-pixel outlines.
 constexpr int kShift = 4;
 constexpr double kSubpixel = 1 << kShift;
-// The wall stands this far behind the subject (the world origin), seen from
-// either camera; the floor is y = 0.
-constexpr double kWallBehindMm = 1500;
 // The lens: real lenses are not perfectly sharp (compose()).
 const cv::Size kLensKernel{3, 3};
 constexpr double kLensSigma = 0.7;

@@ -9,14 +9,13 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "backdrop_wall.hpp"
 #include "spinewatch/estimator/units.hpp"
 
 namespace spinewatch::phantom {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// As the plain scene (renderer.cpp): the wall this far behind the subject.
-constexpr double kWallBehindMm = 1500;
 
 struct Sample {
   float luma;
