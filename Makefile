@@ -4,7 +4,9 @@ JOBS ?= $(shell nproc)
 export CMAKE_BUILD_PARALLEL_LEVEL ?= $(JOBS)
 export CTEST_PARALLEL_LEVEL ?= $(JOBS)
 
-.PHONY: all deps build deb demo test test-release test-asan test-fuzz test-arm64 fuzz bench clean
+.PHONY: all deps build deb demo test test-release test-asan test-fuzz test-arm64 fuzz bench clean \
+        stage-build-release stage-build-asan stage-build-arm64 stage-build-fuzz \
+        stage-tests-release stage-tests-asan stage-tests-arm64 stage-tests-fuzz
 
 all: build
 
@@ -35,8 +37,36 @@ endif
 demo: build
 	scripts/demo
 
-test: deps test-release test-asan test-fuzz test-arm64
+# Every stage (release, ASan+UBSan, arm64, fuzz), as CI runs it: two lanes
+# (make -j2). One builds the presets one after another at nice 19, each
+# beside the previous stage's tests; the other runs each stage's tests at
+# normal priority once its build is done, one stage at a time. A stage's
+# tests leave about a tenth of the two cores idle (processes starting,
+# waits on a clock or a broker), which the next build takes. The fuzz stage
+# is last: its tests, the shortest, are the only ones nothing builds beside.
+# docs/testing.md, "How make test runs".
+test: deps
+	@$(MAKE) --no-print-directory -j2 stage-tests-fuzz
 
+stage-build-release:
+	@scripts/stage build release
+stage-build-asan: stage-build-release
+	@scripts/stage build asan
+stage-build-arm64: stage-build-asan
+	@scripts/stage build arm64
+stage-build-fuzz: stage-build-arm64
+	@scripts/stage build fuzz
+
+stage-tests-release: stage-build-release
+	@scripts/stage test release
+stage-tests-asan: stage-build-asan stage-tests-release
+	@scripts/stage test asan
+stage-tests-arm64: stage-build-arm64 stage-tests-asan
+	@scripts/stage test arm64
+stage-tests-fuzz: stage-build-fuzz stage-tests-arm64
+	@scripts/stage test fuzz
+
+# One stage alone: configure, build and tests, in the foreground.
 test-release:
 	cmake --workflow --preset release
 
