@@ -26,8 +26,12 @@ elseif(SPINEWATCH_SANITIZE)
   target_compile_options(spinewatch_warnings INTERFACE -Wno-maybe-uninitialized)
 endif()
 
+# Release builds at -O2 but for the hot libraries (spinewatch_hot_library,
+# below): CMake's Release default is -O3 for everything.
+string(REPLACE "-O3" "-O2" CMAKE_CXX_FLAGS_RELEASE "${CMAKE_CXX_FLAGS_RELEASE}")
+
 # The pure-computation libraries (frames, estimator, the phantom renderer)
-# are compiled at -O2 under the sanitizers (checks below); the rest of the
+# are hot (spinewatch_hot_library): compiled at -O2 under the sanitizers (checks below); the rest of the
 # code at the ASan preset's -Og, which compiles the daemon's Asio/Beast
 # batch in 62 s where -O1 takes 95 s (and -O0 51 s, but running the
 # daemon's and tools' loops slower). At -O1 GCC inlines little of
@@ -48,9 +52,17 @@ endif()
 # (ASan's, use-after-scope included; signed overflow, bounds, object size,
 # shifts, enum and bool values, vptr) stays on in these libraries, and
 # everything else is built with all of them.
-function(spinewatch_optimise_under_sanitizers target)
+#
+# In a Release build (the release and arm64 presets) the same libraries are
+# the only ones at -O3; everything else is at -O2, Debian's own level for
+# its packages: the daemon's Asio/Beast batch, the CLI's and capture's
+# compiled in 168.6 s of CPU against 197.2 s at -O3 (six batches, release
+# flags), and nothing there runs per pixel.
+function(spinewatch_hot_library target)
   if(SPINEWATCH_SANITIZE)
     target_compile_options(${target} PRIVATE -O2 -fno-sanitize=null,alignment)
+  else()
+    target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O3>)
   endif()
 endfunction()
 
