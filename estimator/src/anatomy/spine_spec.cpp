@@ -8,15 +8,6 @@
 #include "common/toml_fields.hpp"
 
 namespace spinewatch {
-namespace {
-
-std::string at(std::string_view source, const toml::node& n) {
-  return fmt::format("{}:{}", source, n.source().begin.line);
-}
-
-
-}  // namespace
-
 Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view source) {
   auto parsed = detail::parse_toml(text, source);
   if (!parsed) return parsed.error();
@@ -43,7 +34,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
     if (!v) return Error{fmt::format("{}: {}: expected a table", source, ctx)};
     auto name = (*v)["name"].value<std::string>();
     if (!name || *name != kVertebraNames[i])
-      return Error{fmt::format("{}: {}.name: expected \"{}\"", at(source, *v), ctx, kVertebraNames[i])};
+      return Error{fmt::format("{}: {}.name: expected \"{}\"", detail::toml_where(source, *v), ctx, kVertebraNames[i])};
     VertebraSpec& out = spec.vertebrae[i];
     out.name = *name;
     for (auto [key, field, min] : {std::tuple{"height_mm", &out.height_mm, 1.0}, std::tuple{"width_mm", &out.width_mm, 1.0},
@@ -53,7 +44,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
       *field = *value;
     }
     if (i + 1 < kVertebraCount && out.spacing_mm < 1.0)
-      return Error{fmt::format("{}: {}.spacing_mm: must be positive above L5", at(source, *v), ctx)};
+      return Error{fmt::format("{}: {}.spacing_mm: must be positive above L5", detail::toml_where(source, *v), ctx)};
   }
 
   const toml::array* joints = root["joint"].as_array();
@@ -66,7 +57,7 @@ Result<SpineSpec> parse_spine_spec(std::string_view text, std::string_view sourc
     const std::string expected = fmt::format("{}-{}", kVertebraNames[i], kVertebraNames[i + 1]);
     auto name = (*j)["name"].value<std::string>();
     if (!name || *name != expected)
-      return Error{fmt::format("{}: {}.name: expected \"{}\"", at(source, *j), ctx, expected)};
+      return Error{fmt::format("{}: {}.name: expected \"{}\"", detail::toml_where(source, *j), ctx, expected)};
     JointSpec& out = spec.joints[i];
     out.name = *name;
     for (auto [key, field, max] : {std::tuple{"flexion_deg", &out.flexion_deg, 60.0}, std::tuple{"lateral_deg", &out.lateral_deg, 45.0},

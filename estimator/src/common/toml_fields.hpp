@@ -10,6 +10,11 @@
 
 namespace spinewatch::detail {
 
+// "FILE:LINE" of a node, the start of every message about it.
+inline std::string toml_where(std::string_view source, const toml::node& n) {
+  return fmt::format("{}:{}", source, n.source().begin.line);
+}
+
 inline Result<double> toml_number(const toml::table& table, std::string_view key, std::string_view source,
                                   std::string_view context, double min, double max) {
   const toml::node* n = table.get(key);

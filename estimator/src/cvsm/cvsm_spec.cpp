@@ -9,15 +9,6 @@
 namespace spinewatch {
 std::string_view generic_cvsm_toml();  // embedded at build time
 
-namespace {
-
-std::string at(std::string_view source, const toml::node& n) {
-  return fmt::format("{}:{}", source, n.source().begin.line);
-}
-
-
-}  // namespace
-
 Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source) {
   auto parsed = detail::parse_toml(text, source);
   if (!parsed) return parsed.error();
@@ -36,7 +27,7 @@ Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source)
     if (!t) return Error{fmt::format("{}: {}: expected a table", source, ctx)};
     auto level = (*t)["level"].value<std::string>();
     if (!level || *level != kVertebraNames[i])
-      return Error{fmt::format("{}: {}.level: expected \"{}\"", at(source, *t), ctx, kVertebraNames[i])};
+      return Error{fmt::format("{}: {}.level: expected \"{}\"", detail::toml_where(source, *t), ctx, kVertebraNames[i])};
     CvsmSpec::Trunk& out = spec.trunk[i];
     for (auto [key, field, min, max] : {std::tuple{"half_width", &out.half_width, 0.01, 0.3},
                                         std::tuple{"depth", &out.depth, 0.01, 0.3},
@@ -55,12 +46,12 @@ Result<CvsmSpec> parse_cvsm_spec(std::string_view text, std::string_view source)
     CvsmSpec::Part out;
     auto chain = (*p)["chain"].value<std::string>();
     if (!chain || (*chain != "pelvis" && *chain != "shoulder" && *chain != "head" && *chain != "arm" && *chain != "leg"))
-      return Error{fmt::format("{}: {}.chain: expected pelvis, shoulder, head, arm or leg", at(source, *p), ctx)};
+      return Error{fmt::format("{}: {}.chain: expected pelvis, shoulder, head, arm or leg", detail::toml_where(source, *p), ctx)};
     auto attach = (*p)["attach"].value<std::string>();
     if (!attach || (*attach != "hip" && !vertebra_index(*attach)))
-      return Error{fmt::format("{}: {}.attach: expected a vertebra T1…L5 or \"hip\"", at(source, *p), ctx)};
+      return Error{fmt::format("{}: {}.attach: expected a vertebra T1…L5 or \"hip\"", detail::toml_where(source, *p), ctx)};
     if ((*chain == "leg") != (*attach == "hip"))
-      return Error{fmt::format("{}: {}.attach: legs, and only legs, attach to \"hip\"", at(source, *p), ctx)};
+      return Error{fmt::format("{}: {}.attach: legs, and only legs, attach to \"hip\"", detail::toml_where(source, *p), ctx)};
     out.chain = *chain;
     out.attach = *attach;
     for (auto [key, field, min, max] : {std::tuple{"y", &out.y, 0.0, 1.1}, std::tuple{"x", &out.x, -0.3, 0.3},
