@@ -15,7 +15,6 @@
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
 #include "calibrate_from.hpp"
@@ -28,6 +27,7 @@
 #include "spinewatch/daemon/camera_pair_source.hpp"
 #include "spinewatch/daemon/config.hpp"
 #include "spinewatch/estimator/calibration/station_calibration.hpp"
+#include "spinewatch/media/media_files.hpp"
 
 namespace spinewatch::cli {
 namespace {
@@ -286,8 +286,9 @@ void add_calibrate_command(CLI::App& app, ExitCode& exit_code) {
       const double margin_mm = 0.5 * spec.square_mm;
       const cv::Mat image = board->draw(px_per_mm, margin_mm);
       try {
-        if (!cv::imwrite(opts->write_board, image))
-          return exit_code.fail(Error{fmt::format("{}: cannot be written", opts->write_board)});
+        const auto written = media::write_image(opts->write_board, image);
+        if (!written) return exit_code.fail(written.error());
+        if (!*written) return exit_code.fail(Error{fmt::format("{}: cannot be written", opts->write_board)});
       } catch (const cv::Exception& e) {
         return exit_code.fail(Error{fmt::format("{}: {}", opts->write_board, e.err)});
       }

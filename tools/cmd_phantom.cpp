@@ -8,10 +8,11 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the flags; the codecs are the media module's
 #include <spdlog/spdlog.h>
 
 #include "command.hpp"
+#include "spinewatch/media/media_files.hpp"
 #include "spinewatch/phantom/ansur_subject.hpp"
 #include "spinewatch/phantom/phantom.hpp"
 
@@ -26,7 +27,9 @@ namespace {
 // A photograph to use as a view's room: any image OpenCV reads; one
 // message naming the file when it cannot be read.
 Result<cv::Mat> load_backdrop(const std::filesystem::path& path) {
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_COLOR);
+  auto read = media::read_image(path, cv::IMREAD_COLOR);
+  if (!read) return read.error();
+  cv::Mat image = std::move(*read);
   if (image.empty())
     return Error{fmt::format("{}: cannot read it as an image (give a PNG or JPEG photograph of the room)", path.string())};
   return image;

@@ -116,6 +116,9 @@ for file in ./usr/sbin/spinewatchd ./usr/bin/spinewatch ./usr/lib/systemd/system
   ./usr/share/doc/spinewatch/daemon.md ./usr/share/doc/spinewatch/hardware.md ./usr/share/doc/spinewatch/posture.schema.json; do
   grep -qx "$file" "$work/contents" || fail "the package lacks ${file#.}"
 done
+# The CLI's media module (video and image files), in the architecture's library directory.
+grep -qx "./usr/lib/$(dpkg-architecture -qDEB_HOST_MULTIARCH)/spinewatch/spinewatch-media.so" "$work/contents" ||
+  fail "the package lacks the media module (/usr/lib/<arch>/spinewatch/spinewatch-media.so)"
 
 # 4. Install into a scratch root.
 root=$work/root
@@ -135,6 +138,10 @@ for file in usr/sbin/spinewatchd usr/bin/spinewatch usr/lib/systemd/system/spine
   usr/lib/sysusers.d/spinewatch.conf usr/share/spinewatch/demo/recording.json; do
   [ -e "$root/$file" ] || fail "dpkg did not install /$file"
 done
+# The installed CLI finds its media module beside it: it writes a PNG.
+"$root/usr/bin/spinewatch" calibrate --write-board "$work/board.png" --dpi 20 >"$work/board.log" 2>&1 ||
+  fail "the installed spinewatch could not write a board image: $(cat "$work/board.log")"
+[ -s "$work/board.png" ] || fail "the installed spinewatch wrote no board image"
 cmp -s "$root/etc/spinewatch/spinewatch.toml" "$src/config/spinewatch.toml" ||
   fail "/etc/spinewatch/spinewatch.toml is not config/spinewatch.toml"
 unit=$root/usr/lib/systemd/system/spinewatch.service

@@ -2,7 +2,8 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
+
+#include "spinewatch/media/media_files.hpp"
 
 namespace spinewatch {
 
@@ -11,12 +12,14 @@ Result<VideoFrames> read_video(const std::filesystem::path& path, int step) {
     return Error{fmt::format("{}: no such video file", path.string())};
   VideoFrames out;
   try {
-    cv::VideoCapture capture(path.string(), cv::CAP_FFMPEG);
-    if (!capture.isOpened())
+    auto reader = media::open_video(path);
+    if (!reader) return reader.error();
+    media::VideoReader& capture = **reader;
+    if (!capture.opened())
       return Error{fmt::format("{}: cannot be read as a video (OpenCV's FFmpeg reader: an MP4, MKV or AVI of "
                                "H.264, MJPEG …)",
                                path.string())};
-    out.fps = capture.get(cv::CAP_PROP_FPS);
+    out.fps = capture.fps();
     cv::Mat frame;
     for (int index = 0; capture.read(frame); ++index) {
       if (index % step != 0) continue;

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the flags; the codecs are the media module's
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
@@ -18,6 +18,7 @@
 #include "spinewatch/import/video_clip.hpp"
 #include "spinewatch/import/station_rig.hpp"
 #include "spinewatch/import/yuyv.hpp"
+#include "spinewatch/media/media_files.hpp"
 
 namespace spinewatch::import {
 namespace {
@@ -128,7 +129,9 @@ cv::Mat crop_and_scale(const cv::Mat& bgr, const CropRect& c) {
 Result<SceneImage> background_from_file(const std::filesystem::path& path, const Side& side) {
   cv::Mat image;
   try {
-    image = cv::imread(path.string(), cv::IMREAD_COLOR);
+    auto read = media::read_image(path, cv::IMREAD_COLOR);
+    if (!read) return read.error();
+    image = std::move(*read);
   } catch (const cv::Exception& e) {
     return Error{fmt::format("{}: could not be read ({})", path.string(), e.err)};
   }

@@ -5,7 +5,8 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
+
+#include "spinewatch/media/media_files.hpp"
 
 namespace spinewatch::import {
 namespace {
@@ -26,8 +27,10 @@ Result<VideoClip> VideoClip::open(const std::filesystem::path& path) {
   VideoClip clip;
   clip.path_ = path;
   try {
-    clip.capture_ = std::make_unique<cv::VideoCapture>(file, cv::CAP_FFMPEG);
-    if (!clip.capture_->isOpened())
+    auto reader = media::open_video(path);
+    if (!reader) return reader.error();
+    clip.capture_ = std::move(*reader);
+    if (!clip.capture_->opened())
       return Error{fmt::format("{}: not a video OpenCV's FFmpeg backend can read (mp4/H.264, avi, mkv, …)", file)};
     cv::Mat first;
     if (!clip.capture_->read(first) || first.empty())
@@ -36,7 +39,7 @@ Result<VideoClip> VideoClip::open(const std::filesystem::path& path) {
       return Error{fmt::format("{}: decodes to {}-channel images, expected 8-bit colour", file, first.channels())};
     clip.width_ = first.cols;
     clip.height_ = first.rows;
-    clip.fps_ = clip.capture_->get(cv::CAP_PROP_FPS);
+    clip.fps_ = clip.capture_->fps();
     if (auto s = clip.rewind(); !s) return s.error();
   } catch (const cv::Exception& e) {
     return Error{fmt::format("{}: OpenCV could not read it ({})", file, e.err)};
@@ -46,8 +49,10 @@ Result<VideoClip> VideoClip::open(const std::filesystem::path& path) {
 
 Status VideoClip::rewind() {
   // Reopening is exact where seeking an H.264 stream to 0 may not be.
-  capture_ = std::make_unique<cv::VideoCapture>(path_.string(), cv::CAP_FFMPEG);
-  if (!capture_->isOpened()) return Error{fmt::format("{}: could not be reopened", path_.string())};
+  auto reader = media::open_video(path_);
+  if (!reader) return reader.error();
+  capture_ = std::move(*reader);
+  if (!capture_->opened()) return Error{fmt::format("{}: could not be reopened", path_.string())};
   return Ok{};
 }
 

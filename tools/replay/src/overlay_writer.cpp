@@ -1,8 +1,9 @@
 #include <fstream>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the flags; the codecs are the media module's
 
+#include "spinewatch/media/media_files.hpp"
 #include "spinewatch/replay/overlay.hpp"
 
 namespace spinewatch {
@@ -41,15 +42,16 @@ Result<OverlayWriter> OverlayWriter::create(const std::filesystem::path& dir, st
 Status OverlayWriter::write(const ReplayedPair& pair) {
   if (seen_++ % every_ != 0) return Ok{};
   const auto path = dir_ / fmt::format("pair_{:06d}.png", pair.posture.seq);
-  bool ok = false;
+  Result<bool> ok = false;
   // zlib level 3: ~10 % larger files than level 9 at a tenth of the time
   // (25 ms against 250 ms a pair here), so --every 1 stays usable.
   try {
-    ok = cv::imwrite(path.string(), render_overlay(pair, options_), {cv::IMWRITE_PNG_COMPRESSION, 3});
+    ok = media::write_image(path, render_overlay(pair, options_), {cv::IMWRITE_PNG_COMPRESSION, 3});
   } catch (const cv::Exception& e) {
     return Error{fmt::format("{}: cannot be written ({})", path.string(), e.what())};
   }
-  if (!ok) return Error{fmt::format("{}: cannot be written", path.string())};
+  if (!ok) return ok.error();
+  if (!*ok) return Error{fmt::format("{}: cannot be written", path.string())};
   ++written_;
   return Ok{};
 }

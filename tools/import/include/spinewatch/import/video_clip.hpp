@@ -1,5 +1,5 @@
 #pragma once
-// One camera's video file, decoded by OpenCV's videoio (FFmpeg on Debian:
+// One camera's video file, decoded by OpenCV's videoio (the media module) (FFmpeg on Debian:
 // mp4/H.264, avi, mkv, …): its size and rate, a first pass that counts
 // its frames and where it moves, then its frames in order.
 #include <filesystem>
@@ -10,8 +10,8 @@
 
 #include "spinewatch/frames/result.hpp"
 
-namespace cv {
-class VideoCapture;
+namespace spinewatch::media {
+class VideoReader;
 }
 
 namespace spinewatch::import {
@@ -48,7 +48,7 @@ class VideoClip {
   VideoClip() = default;
   Status rewind();
   std::filesystem::path path_;
-  std::unique_ptr<cv::VideoCapture> capture_;
+  std::unique_ptr<media::VideoReader> capture_;
   int width_ = 0, height_ = 0;
   double fps_ = 0;
 };
