@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace spinewatch {
 
@@ -10,10 +12,15 @@ namespace {
 
 // One test per primitive, shared by contains() and voxelise() so that both
 // decide every point alike, to the last bit.
+// A cylinder's test is two tests of separate components of d = p − centre:
+// along its axis (y), and across it (x, z).
+bool within_height(const EllipticCylinder& c, const Eigen::Vector3d& d) { return std::abs(d.y()) <= c.half_height; }
+bool within_section(const EllipticCylinder& c, const Eigen::Vector3d& d) {
+  return (d.x() * d.x()) / (c.semi_x * c.semi_x) + (d.z() * d.z()) / (c.semi_z * c.semi_z) <= 1.0;
+}
 bool inside(const EllipticCylinder& c, const Eigen::Vector3d& p) {
   const Eigen::Vector3d d = p - c.centre;
-  return std::abs(d.y()) <= c.half_height &&
-         (d.x() * d.x()) / (c.semi_x * c.semi_x) + (d.z() * d.z()) / (c.semi_z * c.semi_z) <= 1.0;
+  return within_height(c, d) && within_section(c, d);
 }
 bool inside(const OrientedBox& b, const Eigen::Vector3d& p) {
   const Eigen::Vector3d d = b.axes.transpose() * (p - b.centre);
@@ -70,23 +77,42 @@ std::vector<Eigen::Vector3d> voxelise(const Solid& solid, double voxel_mm) {
   std::vector<std::uint8_t> in(static_cast<std::size_t>(n.prod()), 0);
   const auto at = [&](int i, int j, int k) { return (static_cast<std::size_t>(i) * n.y() + j) * n.z() + k; };
   std::size_t inside_count = 0;
-  const auto mark = [&](const auto& primitive) {
-    // The primitive's cells, one more on each side (a point on its bounds
-    // counts as inside), within the grid.
+  const auto set = [&](int i, int j, int k) {
+    if (!in[at(i, j, k)]) {
+      in[at(i, j, k)] = 1;
+      ++inside_count;
+    }
+  };
+  // The primitive's cells, one more on each side (a point on its bounds
+  // counts as inside), within the grid.
+  const auto cells_of = [&](const auto& primitive) {
     const Eigen::AlignedBox3d b = bounds_of(primitive);
     const Eigen::Array3i lo = ((b.min() / voxel_mm).array().floor() - grid->first.array()).cast<int>() - 1;
     const Eigen::Array3i hi = ((b.max() / voxel_mm).array().ceil() - grid->first.array()).cast<int>() + 1;
-    const Eigen::Array3i from = lo.max(0), to = hi.min(n - 1);
+    return std::pair<Eigen::Array3i, Eigen::Array3i>(lo.max(0), hi.min(n - 1));
+  };
+  // A cylinder's two tests once per row along y and once per column
+  // across it, instead of once per cell: each component of d is the same
+  // double whichever cell it is computed for (Eigen works per component,
+  // no contraction: -ffp-contract=off), so each cell's decision is
+  // inside()'s to the last bit (MassProperties.VoxeliseGivesTheReferencesPointsInItsOrder).
+  for (const auto& c : solid.cylinders) {
+    const auto [from, to] = cells_of(c);
+    std::vector<int> rows;
+    for (int j = from.y(); j <= to.y(); ++j)
+      if (within_height(c, grid->centre(from.x(), j, from.z()) - c.centre)) rows.push_back(j);
+    for (int i = from.x(); i <= to.x(); ++i)
+      for (int k = from.z(); k <= to.z(); ++k)
+        if (within_section(c, grid->centre(i, from.y(), k) - c.centre))
+          for (int j : rows) set(i, j, k);
+  }
+  for (const auto& b : solid.boxes) {
+    const auto [from, to] = cells_of(b);
     for (int i = from.x(); i <= to.x(); ++i)
       for (int j = from.y(); j <= to.y(); ++j)
         for (int k = from.z(); k <= to.z(); ++k)
-          if (!in[at(i, j, k)] && inside(primitive, grid->centre(i, j, k))) {
-            in[at(i, j, k)] = 1;
-            ++inside_count;
-          }
-  };
-  for (const auto& c : solid.cylinders) mark(c);
-  for (const auto& b : solid.boxes) mark(b);
+          if (!in[at(i, j, k)] && inside(b, grid->centre(i, j, k))) set(i, j, k);
+  }
   out.reserve(inside_count);
   for (int i = 0; i < n.x(); ++i)
     for (int j = 0; j < n.y(); ++j)
