@@ -31,7 +31,10 @@ Result<const ModuleFunctions*> load(const std::filesystem::path& path) {
                              path.string(), why)};
   };
   void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!handle) return fail(dlerror());
+  if (!handle) {
+    const char* why = dlerror();
+    return fail(why ? why : "dlopen gave no reason");
+  }
   void* entry = dlsym(handle, kModuleEntry);
   if (!entry) return fail(fmt::format("it has no {}", kModuleEntry));
   const auto* functions = reinterpret_cast<const ModuleFunctions* (*)()>(entry)();
