@@ -18,13 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The module in this build tree: <build>/lib/<arch>/spinewatch/, the
-// installed layout's <prefix>/lib/<arch>/spinewatch/.
+// The module in this build tree, at <build>/<libdir>/spinewatch/ as a
+// package installs it at <prefix>/<libdir>/spinewatch/ (<libdir>:
+// lib/<arch> with the /usr prefix of the release presets, lib without one).
 fs::path built_module() {
-  for (const auto& arch : fs::directory_iterator(fs::path(test::binary_dir()) / "lib")) {
-    const fs::path module = arch.path() / "spinewatch" / "spinewatch-media.so";
-    if (fs::exists(module)) return module;
-  }
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(test::binary_dir()) / "lib"))
+    if (entry.path().filename() == "spinewatch-media.so") return entry.path();
   return {};
 }
 
@@ -56,8 +55,7 @@ TEST(MediaModule, AnInstalledCliLoadsTheModuleBesideItAndNamesItWhenMissing) {
   fs::create_directories(root / "usr/bin");
   const fs::path cli = root / "usr/bin/spinewatch";
   fs::copy_file(test::cli_path(), cli);
-  const std::string arch = module.parent_path().parent_path().filename().string();
-  const fs::path installed = root / "usr/lib" / arch / "spinewatch" / "spinewatch-media.so";
+  const fs::path installed = root / "usr" / fs::relative(module, test::binary_dir());
   const fs::path board = root / "board.png";
   const std::string write_board = cli.string() + " calibrate --write-board " + board.string() + " --dpi 20";
 
