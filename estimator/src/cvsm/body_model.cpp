@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace spinewatch {
 namespace {
@@ -34,6 +35,11 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
   // Part heights are given for the upright pose; offsets are taken there.
   const SpinePose upright = neutral_pose(spine, H);
 
+  // Built for each candidate shape while a subject's model is refined:
+  // room for every part's plane and chain up front instead of growing.
+  m.planes.reserve(spec.parts.size() + kVertebraCount);
+  m.chains.reserve(7);  // trunk, two arms, two legs (two each seated)
+
   auto add = [&](const ControlPlane& p) {
     m.planes.push_back(p);
     return static_cast<int>(m.planes.size() - 1);
@@ -41,6 +47,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
 
   // Pelvis (listed top down, chained bottom up), trunk L5 → T1, head.
   std::vector<int> trunk_chain;
+  trunk_chain.reserve(m.planes.capacity());
   std::vector<const CvsmSpec::Part*> pelvis;
   for (const auto& part : spec.parts)
     if (part.chain == "pelvis") pelvis.push_back(&part);
@@ -92,7 +99,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
       }
       trunk_chain.push_back(add(p));
     }
-  m.chains.push_back(trunk_chain);
+  m.chains.push_back(std::move(trunk_chain));
 
   for (double side : {1.0, -1.0}) {
     std::vector<const CvsmSpec::Part*> arm_parts;
@@ -114,7 +121,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
         p.joint = i < 2 ? shoulder : elbow;
         arm.push_back(add(p));
       }
-      m.chains.push_back(arm);
+      m.chains.push_back(std::move(arm));
     }
 
     std::vector<const CvsmSpec::Part*> leg;
@@ -133,7 +140,7 @@ BodyModel build_body_model(const CvsmSpec& spec, const SpineSpec& spine, const B
         p.joint = i < 2 ? hip : knee_id;
         chain.push_back(add(p));
       }
-      m.chains.push_back(chain);
+      m.chains.push_back(std::move(chain));
     } else {
       // Seated: thigh forward and horizontal from the hip joint, shin down
       // from the knee to the ankle (the first, second and last leg planes).
