@@ -331,6 +331,24 @@ void BM_CostSearchCandidate(benchmark::State& state) {
 }
 BENCHMARK(BM_CostSearchCandidate)->Unit(benchmark::kMicrosecond);
 
+// A subject's body model built from the generic model file's parts: done
+// for every candidate shape while the subject model is refined (init).
+// Its reference is the model's own tests (BodyModel.*, the control points'
+// order and values).
+void BM_BuildBodyModel(benchmark::State& state) {
+  const CvsmSpec& spec = generic_cvsm_spec();
+  const SpineSpec& spine = generic_spine_spec();
+  BodyShape shape;
+  shape.height_mm = 1620;
+  shape.width_scale = 0.9;
+  const Eigen::Vector3d l5(10, spine.l5_height_fraction * 1620, 0);
+  for (auto _ : state) {
+    BodyModel model = build_body_model(spec, spine, shape, l5);
+    benchmark::DoNotOptimize(model.local_points.data());
+  }
+}
+BENCHMARK(BM_BuildBodyModel)->Unit(benchmark::kMicrosecond);
+
 // The model's control points at a pose (the pose already through the
 // spine's kinematics): the limbs neutral (arg 0, as without
 // articulation) and all turned (arg 1, the joints' chain).

@@ -28,9 +28,11 @@ const std::array<RingAngle, kControlPoints>& unit_ring() {
 void add_ring_points(const ControlPlane& p, std::vector<Eigen::Vector3d>& out) {
   for (const auto& [c, s] : unit_ring()) {
     const double radial = c * (c > 0 ? p.front : p.back);
-    const Eigen::Vector3d local = p.axis_x ? Eigen::Vector3d(0, radial, s * p.half_width)
-                                           : Eigen::Vector3d(radial, 0, s * p.half_width);
-    out.push_back(p.offset + local);
+    // Component by component (the same sums as offset + local): a local
+    // vector written as two scalars and read back as one packed pair
+    // stalled the store forwarding, most of this function's time.
+    const double local_x = p.axis_x ? 0.0 : radial, local_y = p.axis_x ? radial : 0.0;
+    out.emplace_back(p.offset.x() + local_x, p.offset.y() + local_y, p.offset.z() + s * p.half_width);
   }
 }
 
