@@ -69,7 +69,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
     bool list = false;
     // Station geometry and scene (docs/phantom.md).
     std::optional<double> tilt, roll, pair_angle, height;
-    std::string room, backdrop_frontal, backdrop_lateral;
+    std::string room, backdrop_frontal, backdrop_lateral, chair;
     bool desk = false, no_desk = false;
   };
   auto opts = std::make_shared<Options>();
@@ -127,6 +127,10 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
   auto* desk = cmd->add_flag("--desk", opts->desk,
                              "A desk (seated) or bench (standing) in front of the subject; on by default in typing and reach");
   cmd->add_flag("--no-desk", opts->no_desk, "No desk or bench, whatever the scenario")->excludes(desk);
+  cmd->add_option("--chair", opts->chair,
+                  "A chair under the seated subject (seat, legs, backrest), part of the room: black (an office "
+                  "chair, darker than dark trousers by less than the silhouette threshold) or grey; seated scenarios only")
+      ->check(CLI::IsMember({"black", "grey"}));
   cmd->add_option("--h264", opts->phantom.h264_crf,
                   "Compress the written frames with H.264 at this CRF (0 lossless, 23 x264's default, 51 worst)")
       ->check(CLI::Range(0, 51));
@@ -159,6 +163,7 @@ void add_phantom_command(CLI::App& app, ExitCode& exit_code) {
       p.station = phantom::StationGeometry{opts->tilt, opts->roll.value_or(0), opts->pair_angle.value_or(90), opts->height};
     if (opts->desk || opts->no_desk) p.desk = opts->desk;
     if (opts->room == "cluttered") p.room = phantom::RoomKind::Cluttered;
+    if (!opts->chair.empty()) p.chair = opts->chair == "black" ? phantom::Chair::Black : phantom::Chair::Grey;
     if (opts->backdrop_frontal.empty() != opts->backdrop_lateral.empty()) {
       spdlog::error("phantom: give --backdrop-frontal and --backdrop-lateral together");
       exit_code.value = 2;

@@ -138,6 +138,53 @@ TEST(PhantomScene, TheDeskHidesTheLegsAndBelongsToTheRoom) {
   EXPECT_EQ(make(bench).furniture(), Furniture::Bench);
 }
 
+TEST(PhantomScene, AChairIsUnderTheSeatedSubjectAndBelongsToTheRoom) {
+  PhantomOptions bare_options = short_run("seated_flexion", 3), grey_options = bare_options, black_options = bare_options;
+  grey_options.chair = Chair::Grey;
+  black_options.chair = Chair::Black;
+  const PhantomSequence bare = make(bare_options), grey = make(grey_options), black = make(black_options);
+  const PhantomFrame b = bare.render(1), g = black.render(1);
+  // The chair is in the empty scene (the stored background) of both views.
+  // (The grey one's seat is the floor's grey from the side.)
+  for (View view : kViews) {
+    cv::Mat diff;
+    cv::absdiff(black.background(view), bare.background(view), diff);
+    EXPECT_GT(cv::countNonZero(diff > 15), 1000) << static_cast<int>(view);
+    cv::absdiff(grey.background(view), bare.background(view), diff);
+    EXPECT_GT(cv::countNonZero(diff > 15), 100) << static_cast<int>(view);
+  }
+  // The subject sits on it: seen from the side, the seat's top meets the
+  // person's lowest outline under the hips, and the chair hides little of
+  // the person (what sinks into the seat's cushion).
+  const int lateral = static_cast<int>(View::Lateral);
+  const auto waist = black.camera(View::Lateral).project(*g.truth.waist);
+  ASSERT_TRUE(waist);
+  const int column = static_cast<int>(std::lround(waist->x()));
+  int lowest = -1;
+  for (int y = 0; y < g.person[lateral].rows; ++y)
+    if (g.person[lateral].at<std::uint8_t>(y, column)) lowest = y;
+  ASSERT_GT(lowest, 0);
+  cv::Mat seat_diff;
+  cv::absdiff(black.background(View::Lateral), bare.background(View::Lateral), seat_diff);
+  for (int dy = 1; dy <= 3; ++dy) EXPECT_GT(seat_diff.at<std::uint8_t>(lowest + dy, column), 15) << dy;
+  const int hidden = cv::countNonZero((b.person[lateral] > 0) & (g.person[lateral] == 0));
+  EXPECT_GT(hidden, 0);
+  EXPECT_LT(hidden, cv::countNonZero(b.person[lateral]) / 10);
+  // The black chair is darker than the trousers by less than the
+  // silhouette's default threshold (28); the grey one lighter by more.
+  const double black_seat = black.background(View::Lateral).at<std::uint8_t>(lowest + 2, column);
+  const double grey_seat = grey.background(View::Lateral).at<std::uint8_t>(lowest + 2, column);
+  EXPECT_GT(black_seat, kTrousersShade - 28);
+  EXPECT_LT(black_seat, kTrousersShade);
+  EXPECT_GT(grey_seat, kTrousersShade + 28);
+  // A standing subject has no chair: the error says which scenarios do.
+  PhantomOptions standing = short_run("upright", 1);
+  standing.chair = Chair::Black;
+  const auto refused = PhantomSequence::create(standing);
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("seated scenario"), std::string::npos) << refused.error().message;
+}
+
 double mean_gradient(const cv::Mat& grey) {
   cv::Mat gx, gy, mag;
   cv::Sobel(grey, gx, CV_32F, 1, 0);

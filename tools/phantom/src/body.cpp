@@ -1,5 +1,6 @@
 #include "spinewatch/phantom/body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -255,6 +256,21 @@ BodyModel::LegJoints BodyModel::leg_joints(double side) const {
     return {hip, knee, Eigen::Vector3d(knee.x() + 40 * scale_, 80 * scale_, knee.z())};
   }
   return {hip, Eigen::Vector3d(hip.x(), 0.5 * hip.y(), hip.z()), Eigen::Vector3d(hip.x(), 80 * scale_, hip.z())};
+}
+
+ChairPlace BodyModel::chair_place() const {
+  const LegJoints j = leg_joints(1);
+  ChairPlace c;
+  // The thighs rest on the seat: it meets their undersides at the hips
+  // (the pelvis's lowest ring sinks into it, as into a cushion). The front
+  // edge stops short of the back of the knee, where a seat is set; the
+  // seat is 450 mm deep for the reference adult, and runs back beyond the
+  // buttocks to the backrest.
+  c.seat_top_y = j.hip.y() - subject_.thigh_radius_mm;
+  c.seat_front_x = j.knee.x() - 80 * scale_;
+  c.seat_back_x = c.seat_front_x - 450 * scale_;
+  c.seat_half_width = std::max(230.0, subject_.hips.half_width_mm + 40);
+  return c;
 }
 
 BodyModel::LegRest BodyModel::leg_rest(double side) const {

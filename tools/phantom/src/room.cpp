@@ -210,6 +210,16 @@ void paint_cluttered(const CameraModel& camera, std::uint32_t seed, int view_ind
     }
 }
 
+// Boxes placed in the subject's frame turned with the subject about the
+// vertical through the origin.
+void turn_with_subject(std::vector<SceneBox>& boxes, double heading_deg) {
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(heading_deg * kRadPerDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (SceneBox& b : boxes) {
+    b.centre = turn * b.centre;
+    b.axes = turn;
+  }
+}
+
 // The photograph scaled to cover the view and cropped to its middle.
 void paint_backdrop(const cv::Mat& photo, cv::Mat& luma, cv::Mat& chroma) {
   const double scale = std::max(double(luma.cols) / photo.cols, double(luma.rows) / photo.rows);
@@ -263,11 +273,31 @@ std::vector<SceneBox> furniture_boxes(Furniture furniture, double heading_deg) {
       for (double side : {-1.0, 1.0}) boxes.push_back({{370, 430, side * 570}, Eigen::Matrix3d::Identity(), {20, 430, 20}, 110, panel});
       break;
   }
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(heading_deg * kRadPerDeg, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  for (SceneBox& b : boxes) {
-    b.centre = turn * b.centre;
-    b.axes = turn;
-  }
+  turn_with_subject(boxes, heading_deg);
+  return boxes;
+}
+
+std::vector<SceneBox> chair_boxes(Chair chair, const ChairPlace& place, double heading_deg) {
+  if (chair == Chair::None) return {};
+  // Grey levels: the black chair's fabric and frame 30 and 25 (the
+  // trousers are 48–60), the grey one's 120 and 110.
+  const float fabric_shade = chair == Chair::Black ? 30 : 120, frame_shade = chair == Chair::Black ? 25 : 110;
+  const cv::Vec2f fabric(4, -2), frame(0, 0);
+  const double seat_half_depth = 0.5 * (place.seat_front_x - place.seat_back_x);
+  const double seat_mid_x = place.seat_back_x + seat_half_depth;
+  const double seat_thickness = 50, leg_half = 15, back_thickness = 30, back_height = 420;
+  std::vector<SceneBox> boxes;
+  boxes.push_back({{seat_mid_x, place.seat_top_y - 0.5 * seat_thickness, 0}, Eigen::Matrix3d::Identity(),
+                   {seat_half_depth, 0.5 * seat_thickness, place.seat_half_width}, fabric_shade, fabric});
+  const double leg_top = place.seat_top_y - seat_thickness;
+  for (double x : {place.seat_back_x + 2 * leg_half, place.seat_front_x - 2 * leg_half})
+    for (double side : {-1.0, 1.0})
+      boxes.push_back({{x, 0.5 * leg_top, side * (place.seat_half_width - 2 * leg_half)}, Eigen::Matrix3d::Identity(),
+                       {leg_half, 0.5 * leg_top, leg_half}, frame_shade, frame});
+  boxes.push_back({{place.seat_back_x - 0.5 * back_thickness, place.seat_top_y + 0.5 * back_height, 0},
+                   Eigen::Matrix3d::Identity(),
+                   {0.5 * back_thickness, 0.5 * back_height, place.seat_half_width - 20}, fabric_shade, fabric});
+  turn_with_subject(boxes, heading_deg);
   return boxes;
 }
 

@@ -43,6 +43,10 @@ Result<PhantomSequence> PhantomSequence::create(PhantomOptions options) {
     return Error{"backdrop: give a photograph for both views (frontal and lateral) or for neither"};
   if (options.h264_crf && (*options.h264_crf < kMinCrf || *options.h264_crf > kMaxCrf))
     return Error{fmt::format("h264: CRF {} is out of range [{}, {}]", *options.h264_crf, kMinCrf, kMaxCrf)};
+  if (options.chair != Chair::None && posture_for(options, *scenario) != SubjectPosture::Seated)
+    return Error{fmt::format("chair: the subject of \"{}\" stands; a chair needs a seated scenario (typing, "
+                             "seated_flexion) or a seated subject",
+                             scenario->name)};
   if (options.station) {
     auto rig = station_rig(*options.station);
     if (!rig) return rig.error();
@@ -73,6 +77,10 @@ RoomSetup PhantomSequence::room(int view) const {
   setup.kind = options_.room;
   setup.backdrop = options_.backdrop[std::size_t(view)];
   setup.furniture = furniture_boxes(furniture(), options_.heading_deg);
+  if (options_.chair != Chair::None) {
+    const std::vector<SceneBox> chair = chair_boxes(options_.chair, body_.chair_place(), options_.heading_deg);
+    setup.furniture.insert(setup.furniture.end(), chair.begin(), chair.end());
+  }
   return setup;
 }
 
@@ -211,6 +219,7 @@ std::string PhantomSequence::notes() const {
   if (options_.room == RoomKind::Cluttered) notes += " room=cluttered";
   if (!options_.backdrop[0].empty()) notes += " backdrop=photographs";
   if (furniture() != Furniture::None) notes += furniture() == Furniture::Desk ? " furniture=desk" : " furniture=bench";
+  if (options_.chair != Chair::None) notes += options_.chair == Chair::Black ? " chair=black" : " chair=grey";
   if (options_.h264_crf) notes += fmt::format(" h264_crf={}", *options_.h264_crf);
   return notes;
 }

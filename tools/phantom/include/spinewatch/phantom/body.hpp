@@ -38,6 +38,16 @@ struct BodyPose {
 // Share of whole-trunk flexion taken by the pelvis (the spine takes the rest).
 inline constexpr double kPelvisFlexionShare = 1.0 / 3.0;
 
+// Where a chair fits a seated subject, in the subject's frame (X forwards,
+// Y up, mm) before the heading's turn: the seat's surface under the thighs'
+// undersides at the hips, its front edge behind the knees, its back behind
+// the buttocks, and its half width beyond the hips.
+struct ChairPlace {
+  double seat_top_y = 0;
+  double seat_back_x = 0, seat_front_x = 0;
+  double seat_half_width = 0;
+};
+
 class BodyModel {
  public:
   // Per-joint factors come from the subject, else from `seed` (±20 %).
@@ -55,6 +65,8 @@ class BodyModel {
   // The spine's segmental motion for a whole-trunk motion: the spine's part
   // spread over the joints, and the pelvis rotating about the hip joints.
   SegmentalMotion segmental_motion(const TrunkMotion& motion) const;
+  // The chair under this subject seated in the neutral pose.
+  ChairPlace chair_place() const;
 
  private:
   void add_trunk(const SpinePose& spine, std::vector<Solid>& out) const;

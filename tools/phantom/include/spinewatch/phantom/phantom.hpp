@@ -62,6 +62,9 @@ struct PhantomOptions {
   // The furniture in front of the subject (a desk when seated, a bench when
   // standing): on or off; nothing: as the scenario has it.
   std::optional<bool> desk;
+  // A chair under a seated subject (room.hpp, chair_boxes): part of the
+  // room, in the empty scene too. None by default.
+  Chair chair = Chair::None;
   // The frames of a written recording through H.264 at this CRF
   // (compression.hpp); render() itself stays uncompressed.
   std::optional<int> h264_crf;

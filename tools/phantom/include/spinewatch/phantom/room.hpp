@@ -12,6 +12,7 @@
 
 #include "spinewatch/estimator/camera_model.hpp"
 #include "spinewatch/frames/result.hpp"
+#include "spinewatch/phantom/body.hpp"
 #include "spinewatch/phantom/scenario.hpp"
 
 namespace spinewatch::phantom {
@@ -20,6 +21,12 @@ enum class RoomKind : std::uint8_t {
   Plain,      // a textured wall 1.5 m behind the subject and the floor (as always)
   Cluttered,  // shelves of books, posters, cabinets and boxes, a tiled floor with a rug
 };
+
+// A chair under a seated subject, by its colour: none (the subject sits on
+// nothing the cameras see, as always), black (the common office chair:
+// darker than the darkest clothing by less than the silhouette's grey
+// threshold) or light grey fabric.
+enum class Chair : std::uint8_t { None, Black, Grey };
 
 // An opaque box of the room: its centre, axes (columns), half-extents (mm),
 // grey level and chroma offsets (U − 128, V − 128).
@@ -36,6 +43,13 @@ struct SceneBox {
 // The furniture in front of a subject facing `heading_deg` (station.hpp's
 // turn of the body), as boxes in the world.
 std::vector<SceneBox> furniture_boxes(Furniture furniture, double heading_deg);
+
+// A chair under a seated subject: the seat where `place` puts it (50 mm
+// thick), four legs to the floor and a backrest behind the buttocks up to
+// the lower ribs, turned with the subject. The person sits on it, so it
+// hides only what of the person sinks into the seat or lies behind the
+// backrest. Nothing for Chair::None.
+std::vector<SceneBox> chair_boxes(Chair chair, const ChairPlace& place, double heading_deg);
 
 // What one view's room holds beyond the plain scene.
 struct RoomSetup {
