@@ -87,6 +87,21 @@ TEST(PhantomCli, UnknownScenarioExitsTwo) {
   EXPECT_FALSE(std::filesystem::exists(dir / "rec"));
 }
 
+TEST(PhantomCli, AChairForAStandingSubjectOrOfAnUnknownColourExitsTwo) {
+  test::TempDir dir;
+  auto standing = test::run_cli("phantom --scenario upright --chair black --out " + (dir / "rec").string());
+  EXPECT_EQ(standing.exit_code, 2) << standing.output;
+  EXPECT_NE(standing.output.find("a chair needs a seated scenario"), std::string::npos) << standing.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "rec"));
+  auto colour = test::run_cli("phantom --scenario typing --chair purple --out " + (dir / "rec").string());
+  EXPECT_EQ(colour.exit_code, 2) << colour.output;
+  EXPECT_NE(colour.output.find("purple"), std::string::npos) << colour.output;
+  auto seated = test::run_cli("phantom --scenario typing --chair grey --frames 2 --empty-frames 1 --out " +
+                              (dir / "rec").string());
+  ASSERT_EQ(seated.exit_code, 0) << seated.output;
+  EXPECT_NE(test::read_file(dir / "rec" / "recording.json").find("chair=grey"), std::string::npos);
+}
+
 TEST(PhantomCli, MissingOutExitsTwo) {
   auto r = test::run_cli("phantom --scenario upright");
   EXPECT_EQ(r.exit_code, 2) << r.output;
