@@ -171,6 +171,7 @@ CvsmTracker::CvsmTracker(CvsmTracker&&) noexcept = default;
 CvsmTracker& CvsmTracker::operator=(CvsmTracker&&) noexcept = default;
 
 CvsmResult CvsmTracker::track(const BitMask& frontal, const BitMask& lateral) {
+  impl_->unseen = {};
   return impl_->track(frontal, lateral, {});
 }
 
@@ -185,7 +186,10 @@ CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteR
     }
   std::string_view flag = flag_of(frontal.status);
   if (flag.empty()) flag = flag_of(lateral.status);
-  return impl_->track(frontal.mask, lateral.mask, flag);
+  impl_->unseen = {&frontal.unseen, &lateral.unseen};
+  CvsmResult r = impl_->track(frontal.mask, lateral.mask, flag);
+  impl_->unseen = {};  // the results are the caller's: not kept past this call
+  return r;
 }
 
 BitMask CvsmTracker::fitted_mask(View view) {

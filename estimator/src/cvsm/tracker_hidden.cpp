@@ -30,7 +30,25 @@ void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& later
       hiding[v] = true;
     }
   }
-  cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+  // The pixels a view cannot tell from the background are hidden as the
+  // occluder's are: a model drawn there costs nothing (docs/cvsm.md, "A
+  // black chair").
+  for (std::size_t v = 0; v < 2; ++v) {
+    const BitMask* u = unseen[v];
+    const bool any = u && u->width() == masks[v]->width() && u->height() == masks[v]->height() && u->count() > 0;
+    cost_hides[v] = hiding[v] || any;
+    if (!any) continue;
+    if (!hiding[v]) {
+      hidden[v] = *u;
+      continue;
+    }
+    for (int y = 0; y < hidden[v].height(); ++y) {
+      std::uint64_t* h = hidden[v].row(y);
+      const std::uint64_t* from = u->row(y);
+      for (int w = 0; w < hidden[v].words_per_row(); ++w) h[w] |= from[w];
+    }
+  }
+  cost->set_hidden(hidden_in(0), hidden_in(1));
 }
 
 // An occluder hides the lower body in both views: no view sees the

@@ -259,6 +259,12 @@ struct CvsmTracker::Impl {
   // "Occluded lower body"): the cost does not count the model there.
   std::array<BitMask, 2> hidden;
   std::array<bool, 2> hiding{};
+  // What each view cannot tell from the background (SilhouetteResult::
+  // unseen), left out of the cost beside the occluder's pixels; whether
+  // the cost leaves anything out in each view.
+  std::array<const BitMask*, 2> unseen{};
+  std::array<bool, 2> cost_hides{};
+  const BitMask* hidden_in(std::size_t view) const { return cost_hides[view] ? &hidden[view] : nullptr; }
   void find_hidden(const BitMask& frontal, const BitMask& lateral);
   void withhold_hidden_lower_body(CvsmResult& r) const;
   void withhold_unseen_pelvis(const BitMask& frontal, const BitMask& lateral, CvsmResult& r) const;

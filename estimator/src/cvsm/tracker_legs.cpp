@@ -47,8 +47,8 @@ int CvsmTracker::Impl::follow_step() {
   if (opt.limbs == LimbMode::Articulated || std::abs(a[0]) > kStepUprightDeg || std::abs(a[1]) < kStepSideBendDeg)
     return 0;
   const SpinePose v = pose_vertebrae(model, spine, pose);
-  cvsm_detail::hide_below_hips(rig.frontal, model, v, hiding[0] ? &hidden[0] : nullptr, cost_width, cost_height, legs_hidden[0]);
-  cvsm_detail::hide_below_hips(rig.lateral, model, v, hiding[1] ? &hidden[1] : nullptr, cost_width, cost_height, legs_hidden[1]);
+  cvsm_detail::hide_below_hips(rig.frontal, model, v, hidden_in(0), cost_width, cost_height, legs_hidden[0]);
+  cvsm_detail::hide_below_hips(rig.lateral, model, v, hidden_in(1), cost_width, cost_height, legs_hidden[1]);
   cost->set_hidden(&legs_hidden[0], &legs_hidden[1]);
   anchored = false;
   auto trunk_cost = [&](const PoseParams& q, std::int64_t limit) { return cost_of(q, limit); };
@@ -58,7 +58,7 @@ int CvsmTracker::Impl::follow_step() {
   const auto moved = coordinate_descent(straight, cost_of(straight, INT64_MAX), PoseParams{0, 0, 0, 0, 0, 40, 0, 40}, 3, 24, trunk_cost);
   const auto settled = coordinate_descent(moved.params, moved.best, PoseParams{4, 4, 4, 4, 2, 10, 6, 10}, 3, 60, trunk_cost);
   anchored = true;
-  cost->set_hidden(hiding[0] ? &hidden[0] : nullptr, hiding[1] ? &hidden[1] : nullptr);
+  cost->set_hidden(hidden_in(0), hidden_in(1));
   const auto margin = static_cast<std::int64_t>(kStepMarginFraction * static_cast<double>(silhouette_px) / cost->row_step());
   const double step_mm = std::hypot(settled.params[5] - a[5], settled.params[6] - a[6], settled.params[7] - a[7]);
   // A step explains the local search's side bend away; a pose that keeps
@@ -80,7 +80,7 @@ double CvsmTracker::Impl::residual_below_waist(const BitMask& frontal, const Bit
     const std::optional<Eigen::Vector2d> waist = cams[v]->project(r.waist);
     if (!waist) continue;
     const BitMask drawn = cost->render(model, points, v == 0 ? View::Frontal : View::Lateral);
-    const BitMask* h = hiding[v] ? &hidden[v] : nullptr;
+    const BitMask* h = hidden_in(v);
     const int row = static_cast<int>(std::ceil(waist->y()));
     n += what == BelowWaist::SilhouetteOutside ? cvsm_detail::silhouette_outside_below(drawn, *masks[v], h, row)
                                                : cvsm_detail::xor_below(drawn, *masks[v], h, row);

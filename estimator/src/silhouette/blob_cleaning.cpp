@@ -89,6 +89,27 @@ void close_cross(BitMask& mask) {
   cross<false>(dilated, mask);
 }
 
+void open_square(BitMask& mask, int radius) {
+  if (mask.empty()) return;
+  const int words = mask.words_per_row();
+  const int width = mask.width();
+  const std::uint64_t keep = (width & 63) != 0 ? (std::uint64_t{1} << (width & 63)) - 1 : ~std::uint64_t{0};
+  auto invert = [&](BitMask& m) {
+    for (int y = 0; y < m.height(); ++y) {
+      std::uint64_t* row = m.row(y);
+      for (int w = 0; w < words; ++w) row[w] = ~row[w];
+      row[words - 1] &= keep;
+    }
+  };
+  // Eroded: the complement of the complement grown (pixels beyond the
+  // image are not in the complement, so they never erode).
+  BitMask outside = mask, eroded(width, mask.height());
+  invert(outside);
+  dilate_square(outside, radius, eroded);
+  invert(eroded);
+  dilate_square(eroded, radius, mask);
+}
+
 BlobSummary keep_largest_blob(BitMask& mask, int min_px) {
   std::vector<Run> runs;
   runs.reserve(1024);

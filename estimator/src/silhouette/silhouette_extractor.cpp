@@ -200,13 +200,38 @@ void SilhouetteExtractor::threshold_to_bits(const LumaView& frame, double gain, 
   row.threshold = options_.threshold;
   row.chroma_threshold = options_.chroma_threshold;
   row.shadow_q7 = silhouette_detail::ratio_to_q7(options_.shadow_ratio);
-  const bool colour = frame.step == 2 && model_.has_chroma() && options_.chroma_threshold > 0 && width_ % 2 == 0;
+  const bool with_chroma = colour(frame);
   for (int y = 0; y < height_; ++y) {
     row.frame = frame.row(y);
     row.background = model_.row(y);
-    row.chroma_background = colour ? model_.chroma_row(y) : nullptr;
+    row.chroma_background = with_chroma ? model_.chroma_row(y) : nullptr;
     silhouette_detail::threshold_row(row, out.row(y));
   }
+}
+
+bool SilhouetteExtractor::colour(const LumaView& frame) const {
+  return frame.step == 2 && model_.has_chroma() && options_.chroma_threshold > 0 && width_ % 2 == 0;
+}
+
+// The same per-pixel test at half the threshold, luma alone, less the
+// person's blob, opened (SilhouetteResult::unseen).
+void SilhouetteExtractor::find_unseen(const LumaView& frame, SilhouetteResult& result) const {
+  if (colour(frame)) return;
+  result.unseen = BitMask(width_, height_);
+  silhouette_detail::ThresholdRow row;
+  row.frame_step = frame.step;
+  row.width = width_;
+  row.gain_q7 = silhouette_detail::gain_to_q7(result.gain);
+  row.threshold = options_.threshold / 2;
+  for (int y = 0; y < height_; ++y) {
+    row.frame = frame.row(y);
+    row.background = model_.row(y);
+    std::uint64_t* out = result.unseen.row(y);
+    silhouette_detail::threshold_row(row, out);
+    const std::uint64_t* person = result.mask.row(y);
+    for (int w = 0; w < result.unseen.words_per_row(); ++w) out[w] &= ~person[w];
+  }
+  open_square(result.unseen, 1);
 }
 
 SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMask* gate) {
@@ -257,6 +282,7 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMa
     else
       result.status = SilhouetteStatus::Person;
   }
+  if (modelled && result.status != SilhouetteStatus::NoPerson) find_unseen(frame, result);
   if (modelled) {
     person_ = result.mask;
     gain_ = result.gain;

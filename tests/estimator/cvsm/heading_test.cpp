@@ -193,13 +193,18 @@ TEST(CvsmHeading, TheFrontRangeFitsASeatedAdultFacingTheCameraFacingIt) {
                                                    });
   const test::TrustRun held = test::track_for_trust(po, fixed, "seated flexion 27006, fixed range");
   ASSERT_EQ(run.person_frames, 20);
-  EXPECT_GE(run.tracking, held.tracking - 2);
   // Measured: 0° (before, 30° from the first pair on).
   EXPECT_LE(farthest, 10.0);
-  // Measured: 22.3 / 53.9 mm over 16 tracking pairs against 21.9 / 48.8
-  // over 18 held facing.
+  // Measured: front 14 tracking, neck / waist 20.4 / 48.2 mm, 5 pairs over
+  // 50 mm; fixed 18, 16.8 / 30.5 mm, none. Before the silhouette's unseen
+  // pixels (docs/cvsm.md, "A black chair") the two were alike: front 14,
+  // 20.1 / 54.0 mm, 10 over 50 mm; fixed 16, 20.7 / 48.6 mm, 6. The fixed
+  // range gained more from them, so the front range is held to its own
+  // figures and to the fixed range's tracking.
+  EXPECT_GE(run.tracking, held.tracking - 4);
   EXPECT_LE(run.neck_mean(), held.neck_mean() + 6);
-  EXPECT_LE(run.waist_mean(), held.waist_mean() + 6);
+  EXPECT_LE(run.waist_mean(), 54.0);
+  EXPECT_LE(run.wrong, 5);
 }
 
 // A range that does not take the side turned away ("fixed") and a subject

@@ -66,6 +66,16 @@ struct SilhouetteResult {
   double gain = 1.0;             // estimated frame / background exposure ratio
   int blobs = 0;                 // blobs of at least min_blob_px
   std::int64_t second_blob_px = 0;
+  // Where the view cannot tell the person from the background: pixels
+  // outside the person's blob that differ from the background by more
+  // than half the threshold, in regions at least 3 px thick (open_square;
+  // a thinner band is a blurred outline, not a region). Dark trousers
+  // before a black chair differ from it by less than the threshold and
+  // more than half of it; the fit neither pays for a model drawn there nor
+  // requires one (docs/cvsm.md, "A black chair"). Grey frames only (in
+  // colour the chroma tells, and a shadow differs by its luma); empty
+  // without a person or with BackgroundMode::Threshold.
+  BitMask unseen;
 };
 
 class SilhouetteExtractor {
@@ -105,6 +115,8 @@ class SilhouetteExtractor {
   SilhouetteStatus start_background(const LumaView& frame);
   double estimate_gain(const LumaView& frame) const;
   void threshold_to_bits(const LumaView& frame, double gain, BitMask& out) const;
+  bool colour(const LumaView& frame) const;
+  void find_unseen(const LumaView& frame, SilhouetteResult& result) const;
   bool beside_person_still(const BitMask& person);
 
   SilhouetteOptions options_;
@@ -129,6 +141,10 @@ struct BlobSummary {
   int fragments = 0;  // blobs of at least min_px kept with the largest as pieces of it
   int x_min = 0, x_max = -1, y_min = 0, y_max = -1;  // bounding box of what is kept
 };
+// Morphological opening by a (2·radius + 1)² square: what survives lies in
+// a square of that size wholly inside the mask (the image's outside counts
+// as inside, as OpenCV's erosion has it).
+void open_square(BitMask& mask, int radius);
 // Keeps only the largest 8-connected blob of `mask` (run-based labelling)
 // and the blobs of at least min_px that are fragments of it — above or
 // below it within its columns (docs/cvsm.md, "Silhouettes"); largest_px
