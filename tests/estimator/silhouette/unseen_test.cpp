@@ -64,12 +64,18 @@ struct ChairScene {
   }
 };
 
-TEST(Silhouette, WhatTheViewCannotTellFromTheBackgroundIsUnseen) {
-  const ChairScene scene;
+// An extractor on a stored background image (luma, or YUYV with chroma).
+SilhouetteExtractor on_stored(const LumaView& background) {
   SilhouetteOptions options;
   options.background = BackgroundMode::Image;
   SilhouetteExtractor extractor(options);
-  ASSERT_TRUE(extractor.set_background(view_of(scene.background)).ok());
+  EXPECT_TRUE(extractor.set_background(background).ok());
+  return extractor;
+}
+
+TEST(Silhouette, WhatTheViewCannotTellFromTheBackgroundIsUnseen) {
+  const ChairScene scene;
+  SilhouetteExtractor extractor = on_stored(view_of(scene.background));
   const SilhouetteResult r = extractor.extract(view_of(scene.frame));
   ASSERT_EQ(r.status, SilhouetteStatus::Person);
   EXPECT_LE(differing(r.mask, scene.person), cv::countNonZero(scene.person) / 200);  // the closing fills corners
@@ -98,10 +104,7 @@ TEST(Silhouette, WhatTheViewCannotTellFromTheBackgroundIsUnseen) {
 
 TEST(Silhouette, NothingIsUnseenWithoutAPersonOrInColour) {
   const ChairScene scene;
-  SilhouetteOptions options;
-  options.background = BackgroundMode::Image;
-  SilhouetteExtractor grey(options);
-  ASSERT_TRUE(grey.set_background(view_of(scene.background)).ok());
+  SilhouetteExtractor grey = on_stored(view_of(scene.background));
   const SilhouetteResult empty = grey.extract(view_of(scene.background));
   EXPECT_EQ(empty.status, SilhouetteStatus::NoPerson);
   EXPECT_EQ(empty.unseen.count(), 0);
@@ -117,8 +120,7 @@ TEST(Silhouette, NothingIsUnseenWithoutAPersonOrInColour) {
       frame[static_cast<std::size_t>((y * kW + x) * 2)] = scene.frame.at<std::uint8_t>(y, x);
       bg[static_cast<std::size_t>((y * kW + x) * 2)] = scene.background.at<std::uint8_t>(y, x);
     }
-  SilhouetteExtractor colour(options);
-  ASSERT_TRUE(colour.set_background({bg.data(), kW, kH, kW * 2, 2}).ok());
+  SilhouetteExtractor colour = on_stored({bg.data(), kW, kH, kW * 2, 2});
   const SilhouetteResult c = colour.extract({frame.data(), kW, kH, kW * 2, 2});
   ASSERT_EQ(c.status, SilhouetteStatus::Person);
   EXPECT_EQ(c.unseen.count(), 0);
