@@ -129,7 +129,7 @@ struct HangingSpine {
   SpinePlacement standing;
   double l5_y = 0;
 };
-std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
+std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s, double crown_lift_mm) {
   if (!s.measured_spine) return std::nullopt;
   const bool standing = s.shape.posture == SubjectPosture::Standing;
   HangingSpine h;
@@ -139,10 +139,33 @@ std::optional<HangingSpine> hanging_spine(const SubjectEstimate& s) {
     h.stature_mm = standing && s.measured_crown_mm > 0 ? s.measured_crown_mm : s.shape.height_mm;
   h.standing = default_spine_placement().place(h.stature_mm, s.given_c7_mm, s.given_crest_mm);
   // Seated, L5 hangs from the crown by its standing distance below it
-  // (the crown as measured: the fitted one trades against the head's shape).
+  // (the crown as measured: the fitted one trades against the head's shape),
+  // raised by `crown_lift_mm`: where the crown would be with the trunk
+  // upright.
   const double crown = s.measured_crown_mm > 0 ? s.measured_crown_mm : s.crown_y;
-  h.l5_y = standing ? h.standing.l5_mm : crown - (h.stature_mm - h.standing.l5_mm);
+  h.l5_y = standing ? h.standing.l5_mm : crown + crown_lift_mm - (h.stature_mm - h.standing.l5_mm);
   return h;
+}
+
+// Seated, with the spine hung from the measured crown: the lift applies.
+bool hung_from_measured_crown(const SubjectEstimate& s) {
+  return s.measured_spine && s.shape.posture == SubjectPosture::Seated && s.measured_crown_mm > 0;
+}
+
+// How far the head's top of `m` in the estimate's pose (its translation
+// and heading aside) lies below where it lies upright: the trunk's flexion,
+// side bend and the pelvis's tilt lower it, each about its own pivots.
+double crown_drop(const BodyModel& m, const SpineSpec& spine, const SubjectEstimate& s) {
+  CvsmPose pose = s.pose;
+  pose.translation = Eigen::Vector3d::Zero();
+  pose.heading = 0;
+  const SpinePose posed = pose_vertebrae(m, spine, pose);
+  const VertebraPose& upright_t1 = m.neutral[kNeckIndex];
+  const VertebraPose& posed_t1 = posed[kNeckIndex];
+  // build() puts the neutral model's head top at crown_y less the translation.
+  const Eigen::Vector3d head(0, s.crown_y - s.pose.translation.y() - upright_t1.body_center.y(), 0);
+  const Eigen::Vector3d posed_top = posed_t1.body_center + posed_t1.q * (upright_t1.q.inverse() * head);
+  return upright_t1.body_center.y() + head.y() - posed_top.y();
 }
 
 // The spine's depth in front of the back skin by the published rule, for
@@ -174,9 +197,11 @@ std::int64_t subject_cost(const SubjectEstimate& s, XorCost& cost, const CvsmSpe
   return cost.evaluate(m, points, limit).total();
 }
 
-BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& generic_spine) {
+namespace {
+BodyModel build_lifted(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& generic_spine,
+                       double crown_lift_mm) {
   Eigen::Vector3d l5 = s.base_l5;
-  const std::optional<HangingSpine> hanging = hanging_spine(s);
+  const std::optional<HangingSpine> hanging = hanging_spine(s, crown_lift_mm);
   const SpineSpec spine = hanging ? placed_spine(generic_spine, s.shape.height_mm, hanging->standing) : generic_spine;
   if (hanging)
     l5.y() = hanging->l5_y;
@@ -195,6 +220,18 @@ BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec&
   const double generic = (kCrown * H) - neutral_pose(spine, H)[kNeckIndex].body_center.y();
   if (s.crown_y > 0 && generic > 0) shape.head_scale = std::clamp((s.crown_y - t1) / generic, 0.6, 1.6);
   return build_body_model(spec, spine, shape, l5);
+}
+}  // namespace
+
+double crown_lift(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& spine) {
+  if (!hung_from_measured_crown(s)) return 0;
+  if (s.crown_lift_mm) return *s.crown_lift_mm;
+  const double drop = crown_drop(build_lifted(s, spec, spine, 0), spine, s);
+  return drop >= kMinCrownLiftMm ? drop : 0;
+}
+
+BodyModel build(const SubjectEstimate& s, const CvsmSpec& spec, const SpineSpec& spine) {
+  return build_lifted(s, spec, spine, hung_from_measured_crown(s) ? s.crown_lift_mm.value_or(0) : 0);
 }
 
 SubjectEstimate initial_subject(const CameraRig& rig, const CvsmSpec& spec, const SpineSpec& spine,

@@ -36,6 +36,14 @@ struct SubjectEstimate {
   // seated one is compared at its best height, not at three guesses.
   bool lower_body_hidden = false;
   CvsmPose pose;
+  // Seated, the crown is measured on the first pair, whose trunk may be
+  // bent forward or sideways: the crown it would have upright lies higher
+  // by what that pose lowers the model's head (crown_lift), and the spine
+  // hangs from there. Set from the first pair's pose once its posture and
+  // heading are chosen (CvsmTracker's start_subject), then held: a later
+  // pair's pose is not the one the crown was measured in. Unset (the first
+  // pair's own search), the spine hangs from the crown as measured.
+  std::optional<double> crown_lift_mm;
 };
 
 // Direct measurements: height from the top of the head in both views, the
@@ -61,6 +69,15 @@ CvsmOptions without_given_body(CvsmOptions o);
 int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
                    int budget = 160);
 BodyModel build(const SubjectEstimate& subject, const CvsmSpec& spec, const SpineSpec& spine);
+// The lift of SubjectEstimate::crown_lift_mm for the estimate's pose (its
+// held value once set); 0 where the spine does not hang from a measured
+// crown (standing, the generic placement, the crown cut off).
+double crown_lift(const SubjectEstimate& subject, const CvsmSpec& spec, const SpineSpec& spine);
+// A smaller lift is not applied: under half a pixel row of the crown's
+// measurement (7–8 mm a row for a seated adult filling 170 of the 240 rows),
+// it is below what the crown is measured to, and it would only move where
+// the shape fit's descent ends (a 0.1 mm lift moved seated rows by ±1 mm).
+inline constexpr double kMinCrownLiftMm = 3.0;
 // The estimate's XOR cost against the current silhouettes (`points` is
 // scratch).
 std::int64_t subject_cost(const SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,

@@ -24,6 +24,7 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
       candidates += start_subject(frontal, lateral, without_given_body(opt));
       subject->rejected_stature_mm = rejected;
     }
+    subject->crown_lift_mm = cvsm_detail::crown_lift(*subject, spec, spine);
   } else if (!heading_resolved) {
     // The first pairs did not tell front from back: the full circle
     // again on this one (the subject may have bent or turned since),
