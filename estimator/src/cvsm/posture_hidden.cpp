@@ -17,6 +17,12 @@ CutSpanHidden::CutSpanHidden(XorCost& cost) : cost_(cost) {
     // it is applied after the edge is chosen.
     if (const auto edge = find_occluder_edge(*silhouette, std::numeric_limits<double>::max())) {
       hidden_below(*edge, *silhouette, masks_[v], HiddenSpan::Cut);
+      // Beside what the view cannot tell from the background, hidden before.
+      for (int y = 0; y < masks_[v].height(); ++y) {
+        std::uint64_t* row = masks_[v].row(y);
+        const std::uint64_t* was = before_[v]->row(y);
+        for (int w = 0; w < masks_[v].words_per_row(); ++w) row[w] |= was[w];
+      }
       now[v] = &masks_[v];
     }
   }
