@@ -178,6 +178,7 @@ CvsmTracker& CvsmTracker::operator=(CvsmTracker&&) noexcept = default;
 
 CvsmResult CvsmTracker::track(const BitMask& frontal, const BitMask& lateral) {
   impl_->unseen = {};
+  impl_->scene_edges = {};
   return impl_->track(frontal, lateral, {});
 }
 
@@ -193,8 +194,10 @@ CvsmResult CvsmTracker::track(const SilhouetteResult& frontal, const SilhouetteR
   std::string_view flag = flag_of(frontal.status);
   if (flag.empty()) flag = flag_of(lateral.status);
   impl_->unseen = {&frontal.unseen, &lateral.unseen};
+  impl_->scene_edges = {&frontal.scene_edge, &lateral.scene_edge};
   CvsmResult r = impl_->track(frontal.mask, lateral.mask, flag);
   impl_->unseen = {};  // the results are the caller's: not kept past this call
+  impl_->scene_edges = {};
   return r;
 }
 

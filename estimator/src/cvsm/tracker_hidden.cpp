@@ -6,6 +6,7 @@
 #include "cvsm/head_in_view.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/pelvis_in_view.hpp"
+#include "cvsm/side_cut.hpp"
 #include "cvsm/tracker_impl.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 
@@ -30,15 +31,30 @@ void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& later
       hiding[v] = true;
     }
   }
+  // Beyond a thing's side the outline runs along (a desk's end cutting
+  // the thighs, seen from the side), the view says nothing either
+  // (docs/cvsm.md, "A desk's side").
+  std::array<bool, 2> side_cut{};
+  for (std::size_t v = 0; v < 2; ++v) {
+    const BitMask* edges = scene_edges[v];
+    if (!edges || edges->empty()) continue;
+    for (const cvsm_detail::Side side : {cvsm_detail::Side::Left, cvsm_detail::Side::Right}) {
+      const auto cut = cvsm_detail::find_side_cut(*masks[v], *edges, side);
+      if (!cut) continue;
+      if (!hiding[v] && !side_cut[v]) hidden[v] = BitMask(masks[v]->width(), masks[v]->height());
+      cvsm_detail::add_hidden_beyond(*cut, *masks[v], hidden[v]);
+      side_cut[v] = true;
+    }
+  }
   // The pixels a view cannot tell from the background are hidden as the
   // occluder's are: a model drawn there costs nothing (docs/cvsm.md, "A
   // black chair").
   for (std::size_t v = 0; v < 2; ++v) {
     const BitMask* u = unseen[v];
     const bool any = u && u->width() == masks[v]->width() && u->height() == masks[v]->height() && u->count() > 0;
-    cost_hides[v] = hiding[v] || any;
+    cost_hides[v] = hiding[v] || side_cut[v] || any;
     if (!any) continue;
-    if (!hiding[v]) {
+    if (!hiding[v] && !side_cut[v]) {
       hidden[v] = *u;
       continue;
     }

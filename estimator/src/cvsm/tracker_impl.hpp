@@ -263,6 +263,10 @@ struct CvsmTracker::Impl {
   // unseen), left out of the cost beside the occluder's pixels; whether
   // the cost leaves anything out in each view.
   std::array<const BitMask*, 2> unseen{};
+  // Where each view's outline runs along the scene's own edges
+  // (SilhouetteResult::scene_edge): a desk's side found there hides what
+  // lies beyond it (side_cut.hpp, docs/cvsm.md "A desk's side").
+  std::array<const BitMask*, 2> scene_edges{};
   std::array<bool, 2> cost_hides{};
   const BitMask* hidden_in(std::size_t view) const { return cost_hides[view] ? &hidden[view] : nullptr; }
   void find_hidden(const BitMask& frontal, const BitMask& lateral);

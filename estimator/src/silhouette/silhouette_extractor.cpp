@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "silhouette/scene_edges.hpp"
 #include "silhouette/threshold_row.hpp"
 #include "spinewatch/estimator/silhouette/silhouette.hpp"
 #include "spinewatch/frames/printable.hpp"
@@ -282,7 +283,10 @@ SilhouetteResult SilhouetteExtractor::extract(const LumaView& frame, const BitMa
     else
       result.status = SilhouetteStatus::Person;
   }
-  if (modelled && result.status != SilhouetteStatus::NoPerson) find_unseen(frame, result);
+  if (modelled && result.status != SilhouetteStatus::NoPerson) {
+    find_unseen(frame, result);
+    silhouette_detail::mark_scene_edges(result.mask, model_, silhouette_detail::kSceneEdgeGradient, result.scene_edge);
+  }
   if (modelled) {
     person_ = result.mask;
     gain_ = result.gain;

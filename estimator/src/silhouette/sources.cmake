@@ -8,4 +8,5 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/background_bootstrap.cpp
   ${CMAKE_CURRENT_LIST_DIR}/person_prior.cpp
   ${CMAKE_CURRENT_LIST_DIR}/view_coverage.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/still_scenery.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/still_scenery.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scene_edges.cpp)

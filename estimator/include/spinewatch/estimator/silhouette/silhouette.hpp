@@ -76,6 +76,12 @@ struct SilhouetteResult {
   // colour the chroma tells, and a shadow differs by its luma); empty
   // without a person or with BackgroundMode::Threshold.
   BitMask unseen;
+  // The person's outline pixels where the stored background has an edge
+  // of its own (a step of luma: a desk's side against the wall), not a
+  // plain stretch of scene: where the person may end on something in
+  // front of them (docs/cvsm.md, "A desk's side"). Empty without a person
+  // or with BackgroundMode::Threshold.
+  BitMask scene_edge;
 };
 
 class SilhouetteExtractor {
