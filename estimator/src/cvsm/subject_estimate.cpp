@@ -214,6 +214,8 @@ BodyModel build_lifted(const SubjectEstimate& s, const CvsmSpec& spec, const Spi
   const double H = shape.height_mm;
   if (hanging) {
     shape.stature_mm = hanging->stature_mm;
+    shape.stature_measured = !s.given_stature_mm && s.shape.posture == SubjectPosture::Standing &&
+                             s.measured_crown_mm > 0;
     set_spine_depth(shape, s, spec, hanging->stature_mm);
   }
   const double t1 = neutral_pose(spine, H, l5)[kNeckIndex].body_center.y() + s.pose.translation.y();
@@ -379,7 +381,13 @@ CvsmOptions without_given_body(CvsmOptions o) {
   return o;
 }
 
-int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget) {
+bool stature_is_height(const SubjectEstimate& s) {
+  return s.measured_spine && s.shape.posture == SubjectPosture::Standing && !s.given_stature_mm &&
+         s.measured_crown_mm <= 0;
+}
+
+int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine, int budget,
+                   ShapeRefinement what) {
   std::vector<Eigen::Vector3d> points;
   SubjectEstimate trial = s;
   const double t1 = t1_fraction(spine, s.shape.posture, s.measured_spine);
@@ -403,6 +411,7 @@ int refine_subject(SubjectEstimate& s, XorCost& cost, const CvsmSpec& spec, cons
   // measured placement, where the height is the outline's proportions and
   // the stature places the spine (hanging_spine).
   if (s.given_stature_mm && !(s.measured_spine && s.shape.posture == SubjectPosture::Standing)) step[0] = 0;
+  if (what == ShapeRefinement::HeightHeld) step[0] = 0;
   auto d = cvsm_detail::coordinate_descent(start, c0, step, 3, budget,
                                            [&](const ShapeParams& p, std::int64_t limit) { return eval(p, limit); });
   apply_params(s, d.params, t1);

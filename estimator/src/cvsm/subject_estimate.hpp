@@ -65,9 +65,16 @@ bool check_given_stature(SubjectEstimate& subject);
 // The options without the worker's given body (stature, landmarks, mass):
 // for a subject whose given stature the views contradicted.
 CvsmOptions without_given_body(CvsmOptions o);
+// What a round of the shape fit may move: everything, or all but the
+// height (held as built so far).
+enum class ShapeRefinement { Full, HeightHeld };
 // One round of the shape fit on the current silhouettes; returns evaluations.
 int refine_subject(SubjectEstimate& subject, XorCost& cost, const CvsmSpec& spec, const SpineSpec& spine,
-                   int budget = 160);
+                   int budget = 160, ShapeRefinement what = ShapeRefinement::Full);
+// Standing with the measured placement and the crown in neither view, the
+// model's height is the stature the spine is placed for: nothing else
+// measures it.
+bool stature_is_height(const SubjectEstimate& subject);
 BodyModel build(const SubjectEstimate& subject, const CvsmSpec& spec, const SpineSpec& spine);
 // The lift of SubjectEstimate::crown_lift_mm for the estimate's pose (its
 // held value once set); 0 where the spine does not hang from a measured

@@ -226,6 +226,11 @@ struct CvsmTracker::Impl {
   // rose to 0.039 at 20 mm (docs/cvsm.md, "Provisional model").
   static constexpr double kBuildingCostRise = 0.04;
   void withhold_moved_while_building(CvsmResult& r);
+  // Where the height is the stature (stature_is_height), it is refined on
+  // a building pair only while the model built so far fits the pair within
+  // kBuildingCostRise of the building's best; beyond, the subject has moved
+  // into a posture the model does not hold, and the height would follow it.
+  cvsm_detail::ShapeRefinement building_refinement();
   void building_arms(const BitMask& frontal, const BitMask& lateral, std::string_view flag, int& candidates);
   // Both views' silhouette pixels on the pair that completed the model: what
   // a tracked pair's misfit is weighed against where its own outline is

@@ -118,7 +118,8 @@ struct PostureEstimator::Impl {
         tracker(r, cvsm_options(o)) {}
 
   // The stature the subject model stands on: given, the top of the head
-  // standing (measured placement), or the height the fit chose.
+  // standing (measured placement), or the height the fit chose (seated, or
+  // the head above both pictures).
   std::optional<WorkerBody> worker_body() const {
     const KnownWorker given = known_worker(options.subject);
     const BodyModel* subject = tracker.subject_model();
@@ -134,7 +135,7 @@ struct PostureEstimator::Impl {
     if (given.stature_mm && !(b.rejected_stature_mm && subject)) {
       b.stature_mm = *given.stature_mm;
       b.stature_source = BodyValueSource::Given;
-    } else if (subject->shape.stature_mm > 0 && subject->shape.posture == SubjectPosture::Standing) {
+    } else if (subject->shape.stature_measured) {
       b.stature_mm = subject->shape.stature_mm;
       b.stature_source = BodyValueSource::Measured;
     } else {

@@ -160,5 +160,25 @@ TEST(ProvisionalModel, ThePairCompletingAModelBuiltWhileTheArmsRoseIsWithheld) {
   EXPECT_EQ(a.wrong, 0) << "worst " << a.worst_mm << " mm";
 }
 
+
+// A tall worker (ANSUR 28048, 1930 mm, a test-set adult) reaching forward
+// while his model is built: his head is above both pictures, so no crown
+// measures his stature and the model's height places his spine. Refined on
+// every building pair, the height followed his reach (1930 → 1962 mm here)
+// and the spine with it. Held where the building's fit rose beyond
+// kBuildingCostRise (tracker_building.cpp). Measured here: neck 40.9 →
+// 30.4 mm, waist 43.2 → 35.6 mm, 25 → 22 postures more than 50 mm off (on
+// the baseline's recording, 30 → 22), all 53 pairs still tracking.
+TEST(ProvisionalModel, AHeightNoCrownMeasuresIsNotTakenFromAReach) {
+  phantom::PhantomOptions po = ansur_flexion(28048, 60);
+  po.scenario = "reach";
+  po.seed = 1;
+  const test::TrustRun run = test::track_for_trust(po, CvsmOptions{}, "reach, ansur 28048");
+  EXPECT_LE(run.neck_mean(), 34.0);
+  EXPECT_LE(run.waist_mean(), 39.0);
+  EXPECT_LE(run.wrong, 23) << "worst " << run.worst_mm << " mm";
+  EXPECT_GE(run.tracking, 50);
+}
+
 }  // namespace
 }  // namespace spinewatch

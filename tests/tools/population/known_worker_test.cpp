@@ -63,6 +63,19 @@ double l5_load(const Posture& p) { return p.loads.back().compression_n; }
 
 constexpr int kMan = 15936;  // the test set's median man (1755 mm, 82 kg)
 
+// A tall man (28048, 1930 mm) standing: his head is above both pictures,
+// so no crown measures his stature; the height the fit chose stands in for
+// it and is said to be estimated, not measured.
+TEST(KnownWorker, AStatureNoCrownMeasuresIsEstimated) {
+  const auto& row = subject(28048);
+  const auto seq = sequence(row, "flexion", 20);
+  PostureEstimator estimator(seq.options().rig, EstimatorOptions{});
+  const Posture& p = last_tracking(run(seq, estimator));
+  ASSERT_TRUE(p.worker);
+  EXPECT_EQ(p.worker->stature_source, BodyValueSource::Estimated);
+  EXPECT_NEAR(p.worker->stature_mm, row.stature_mm, 100.0);
+}
+
 TEST(KnownWorker, GivenStatureAndMassAreUsedAndSaidToBeGiven) {
   const auto& row = subject(kMan);
   const auto seq = sequence(row, "seated_flexion", 30);

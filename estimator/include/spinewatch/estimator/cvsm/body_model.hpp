@@ -63,8 +63,12 @@ struct BodyShape {
   std::array<double, kVertebraCount> spine_depth_mm{};
   SubjectPosture posture = SubjectPosture::Standing;
   // The stature the spine was placed for (measured placement: the crown
-  // standing, the searched height seated); 0 with the generic placement.
+  // standing, the searched height seated or with the crown in neither
+  // view); 0 with the generic placement.
   double stature_mm = 0;
+  // stature_mm is the crown the views measured standing, not a height the
+  // fit chose (nor a given stature).
+  bool stature_measured = false;
 };
 
 // One control plane: a 12-point ellipse-like ring in its frame's XZ plane
