@@ -118,11 +118,19 @@ CvsmResult CvsmTracker::Impl::track(const BitMask& frontal, const BitMask& later
 // the first pair to pass after such a stretch was 48–63 mm off at its
 // worst vertebra (4 of 8), the next one under 50 (docs/cvsm.md). Two
 // pairs in a row must pass; the first is held, flagged.
+// And after any pair not published (withheld, lost on its cost, no one in
+// view), a fit is published again only with kBuildingCostRise to spare
+// below lost_cost, as an early posture must (a hysteresis): a fit that
+// hangs at the edge of lost is holding on, not found. 17538 carrying a
+// box was fitted at 0.33–0.35, 58–74 mm off, and published on every pair
+// that dipped under lost_cost.
 void CvsmTracker::Impl::confirm_after_withheld(CvsmResult& r) {
   const bool passed = r.state == TrackingState::Tracking;
   const bool fit_went_on = phase == Phase::Tracking || phase == Phase::Predicting;
-  const bool hold = passed && withheld_last;
-  withheld_last = !passed && fit_went_on && r.estimated;
+  const bool clear = r.fit.cost <= opt.lost_cost - kBuildingCostRise;
+  const bool hold = passed && (withheld_last || (unpublished_last && !clear));
+  withheld_last = (!passed && fit_went_on && r.estimated) || (hold && !clear);
+  unpublished_last = !passed || hold;
   if (!hold) return;
   r.state = TrackingState::Lost;
   if (!r.fit.flag) r.fit.flag = std::string(kReacquiringFlag);
@@ -168,6 +176,7 @@ CvsmResult CvsmTracker::Impl::no_person(std::string_view flag) {
   if (phase != Phase::Building) phase = Phase::Searching;
   if (phase != Phase::Building && flag == "no_person") left_view = true;
   withheld_last = false;  // the next pair is searched afresh
+  unpublished_last = true;
   return r;
 }
 

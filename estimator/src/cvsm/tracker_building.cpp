@@ -84,6 +84,7 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     if (held_away) hold_turned_away(frontal, lateral, r);
     withhold_unexplained_legs(frontal, lateral, r);
     if (moved_while_building) withhold_moved_while_building(r);
+    unpublished_last = r.state != TrackingState::Tracking;
   } else if (init_frames >= opt.provisional_frames && heading_resolved && facing_settled() &&
              !building_interrupted && pelvis_seen(frontal, lateral, r) &&
              head_placed(frontal, lateral, r)) {

@@ -109,6 +109,8 @@ struct CvsmTracker::Impl {
   // withheld stretch").
   void confirm_after_withheld(CvsmResult& r);
   bool withheld_last = false;
+  // The pair before was not published as tracking (confirm_after_withheld).
+  bool unpublished_last = false;
 
   // --- tracker_search.cpp: the trunk's searches
   // The hip joints stay where the subject stood or sat: moving them is

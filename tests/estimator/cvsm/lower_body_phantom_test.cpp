@@ -112,12 +112,17 @@ TEST(LowerBody, AStepReadAsALeanIsWithheldWhereTheLeanShows) {
 // first pair to pass is held too, flagged reacquiring, and the next is
 // tracked (docs/cvsm.md, "Reacquired after a withheld stretch"): lunges of
 // two subjects of the ANSUR II test set whose legs the held-straight model
-// cannot draw. Every held pair follows a withheld one and is followed by a
+// cannot draw. Every held pair follows a withheld one and, where it fits
+// with the margin a fit published again needs (below), is followed by a
 // tracked or withheld pair, never by a second hold; and the held pairs are
 // the fit walking back: further off, over both runs, than the pairs after
 // them (here 64.4 and 52.6 mm held, 42.2 and 54.4 mm after; these lunges
 // keep 2 and 6 tracked postures over 50 mm elsewhere, which this rule is
 // not about: docs/cvsm.md).
+// The margin below lost_cost a fit published again needs
+// (CvsmTracker::Impl::kBuildingCostRise).
+constexpr double kReacquiredCostMargin = 0.04;
+
 TEST(LowerBody, TheFirstPairAfterAWithheldStretchIsHeldAndTheNextTracked) {
   int held = 0;
   double held_mm = 0, after_mm = 0;
@@ -127,13 +132,14 @@ TEST(LowerBody, TheFirstPairAfterAWithheldStretchIsHeldAndTheNextTracked) {
       TrackingState state;
       std::string flag;
       double worst_mm;
+      double cost;
     };
     std::vector<Pair> pairs;
     auto each_fitted = [&](const phantom::PhantomFrame& f, const CvsmResult& r) {
       double worst = 0;
       for (std::size_t k = 0; k < kVertebraCount; ++k)
         worst = std::max(worst, (r.vertebrae[k].body_center - (*f.truth.vertebrae)[k].body_center).norm());
-      pairs.push_back({r.state, r.fit.flag.value_or(""), worst});
+      pairs.push_back({r.state, r.fit.flag.value_or(""), worst, r.fit.cost});
     };
     test::track_for_trust(po, CvsmOptions{}, std::string("lunge, ansur ") + ansur_id, {}, each_fitted);
     const int held_before = held;
@@ -143,9 +149,11 @@ TEST(LowerBody, TheFirstPairAfterAWithheldStretchIsHeldAndTheNextTracked) {
       EXPECT_EQ(pairs[i].state, TrackingState::Lost);
       ASSERT_GT(i, 0u);
       EXPECT_EQ(pairs[i - 1].state, TrackingState::Lost) << ansur_id << " pair " << i;
-      EXPECT_NE(pairs[i - 1].flag, kReacquiringFlag) << ansur_id << " pair " << i;
+      if (pairs[i - 1].flag == kReacquiringFlag) continue;  // held again: above the margin
       ASSERT_LT(i + 1, pairs.size());
-      EXPECT_NE(pairs[i + 1].flag, kReacquiringFlag) << ansur_id << " pair " << i;
+      if (pairs[i].cost <= CvsmOptions{}.lost_cost - kReacquiredCostMargin) {
+        EXPECT_NE(pairs[i + 1].flag, kReacquiringFlag) << ansur_id << " pair " << i;
+      }
       held_mm += pairs[i].worst_mm;
       after_mm += pairs[i + 1].worst_mm;
       std::printf("  %s pair %zu held: %.1f mm; the next %s: %.1f mm\n", ansur_id, i, pairs[i].worst_mm,
@@ -154,6 +162,23 @@ TEST(LowerBody, TheFirstPairAfterAWithheldStretchIsHeldAndTheNextTracked) {
     EXPECT_GE(held - held_before, 1) << ansur_id;
   }
   EXPECT_GT(held_mm, after_mm);
+}
+
+// 17538 (1650 mm, 98 kg, a test-set adult) carrying a box: her fit hangs
+// at the edge of lost (0.336–0.348 against lost_cost 0.35), 58–74 mm off,
+// and every pair that dipped under lost_cost after a lost one was
+// published: 23 postures more than 50 mm off in this render. After a pair
+// not published, a fit is published again only with kBuildingCostRise to
+// spare below lost_cost (confirm_after_withheld): none of hers is.
+TEST(LowerBody, AFitAtTheEdgeOfLostAfterALostPairIsNotPublished) {
+  int reacquiring = 0;
+  const test::TrustRun run =
+      test::track_for_trust(ansur_render("carry", "17538"), CvsmOptions{}, "carry, ansur 17538", {},
+                            [&](const phantom::PhantomFrame&, const CvsmResult& r) {
+                              reacquiring += r.fit.flag == std::string(kReacquiringFlag);
+                            });
+  EXPECT_EQ(run.wrong, 0) << "worst " << run.worst_mm << " mm";
+  EXPECT_GT(reacquiring, 10) << "held as reacquiring, not lost on its cost";
 }
 
 }  // namespace
