@@ -70,7 +70,8 @@ TEST(KnownWorker, AStatureNoCrownMeasuresIsEstimated) {
   const auto& row = subject(28048);
   const auto seq = sequence(row, "flexion", 20);
   PostureEstimator estimator(seq.options().rig, EstimatorOptions{});
-  const Posture& p = last_tracking(run(seq, estimator));
+  const std::vector<Posture> postures = run(seq, estimator);
+  const Posture& p = last_tracking(postures);
   ASSERT_TRUE(p.worker);
   EXPECT_EQ(p.worker->stature_source, BodyValueSource::Estimated);
   EXPECT_NEAR(p.worker->stature_mm, row.stature_mm, 100.0);
