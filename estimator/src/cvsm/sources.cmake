@@ -7,6 +7,7 @@ list(APPEND ESTIMATOR_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/silhouette_edges.cpp
   ${CMAKE_CURRENT_LIST_DIR}/outline_fit.cpp
   ${CMAKE_CURRENT_LIST_DIR}/occluder_edge.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/unseen_end.cpp
   ${CMAKE_CURRENT_LIST_DIR}/side_cut.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lower_residual.cpp
   ${CMAKE_CURRENT_LIST_DIR}/pelvis_in_view.cpp

@@ -49,6 +49,7 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     if (heading_resolved && on_allowed_side(fresh.pose.heading) != subject->pose.heading)
       subject->pose = cvsm_detail::turned_in_place(model, spine, subject->pose, on_allowed_side(fresh.pose.heading));
   }
+  weigh_seat_unseen();
   if (facing_guard.weighing() && opt.heading != HeadingRange::Any) {
     cvsm_detail::SubjectEstimate fresh = fresh_at_allowed_heading(frontal, lateral, subject->pose.heading);
     candidates += weigh_facing(fresh, init_frames + 1 >= opt.subject_frames);
@@ -79,6 +80,7 @@ CvsmResult CvsmTracker::Impl::building_pair(const BitMask& frontal, const BitMas
     const bool moved_while_building = r.fit.cost > best_before + kBuildingCostRise;
     r.state = r.fit.cost > opt.lost_cost ? TrackingState::Lost : TrackingState::Tracking;
     phase = r.state == TrackingState::Lost ? Phase::Searching : Phase::Tracking;
+    withhold_hidden_lower_body(r);
     withhold_unseen_pelvis(frontal, lateral, r);
     withhold_misplaced_head(frontal, lateral, r);
     if (held_away) hold_turned_away(frontal, lateral, r);
@@ -153,6 +155,8 @@ int CvsmTracker::Impl::start_subject(const BitMask& frontal, const BitMask& late
   subject = cvsm_detail::initial_subject(rig, spec, spine, options, frontal, lateral);
   subject->measured_spine = options.spine_placement == SpinePlacementMode::Measured;
   subject->lower_body_hidden = hiding[0] || hiding[1];
+  building_end_unseen = {};
+  seat_unseen = {};
   facing_guard = {};
   held_away = false;
   away_followed = false;
@@ -203,7 +207,7 @@ int CvsmTracker::Impl::start_subject(const BitMask& frontal, const BitMask& late
 // The pose is not changed: the model goes on being built from it.
 void CvsmTracker::Impl::publish_provisional(CvsmResult& r) {
   if (r.fit.cost > opt.lost_cost - kBuildingCostRise || r.fit.cost > best_building_cost + kBuildingCostRise) return;
-  if (hiding[0] && hiding[1]) return;
+  if (lower_body_hidden_in_both()) return;
   const CvsmPose built = pose;
   cost->set_row_step(opt.search_row_step);  // the twist margin's rows
   int candidates = 0;

@@ -3,14 +3,34 @@
 // and a fitted head beyond the picture where the person's is in it,
 // withheld from tracking (docs/cvsm.md, "Occluded lower body", "Pelvis out
 // of the picture", "Head above the picture").
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
 #include "cvsm/head_in_view.hpp"
 #include "cvsm/occluder_edge.hpp"
 #include "cvsm/pelvis_in_view.hpp"
 #include "cvsm/side_cut.hpp"
 #include "cvsm/tracker_impl.hpp"
+#include "cvsm/unseen_end.hpp"
 #include "spinewatch/estimator/fit_flags.hpp"
 
 namespace spinewatch {
+namespace {
+
+// A view's lower outline ends on unseen pixels over at least this share
+// of its columns, the median over the building's pairs: it does not show
+// where the person rests (unseen_end.hpp). The building's medians on the
+// varied phantom (six test-set adults, docs/cvsm.md "A black chair"): the
+// side view of a black seat, typing at a desk, 0.47–0.75 (0.49 for the
+// in-process render of chair_phantom_test); the side view with no chair,
+// at a desk or not, 0.11–0.24. The front view of a seated person shows
+// the thighs' underside on whatever is dark below them (0.16–0.28 with no
+// chair, 0.57–0.90 on the black one) and says nothing of the pelvis: the
+// rule below also needs an occluder's edge in one view.
+constexpr double kSeatUnseenShare = 0.35;
+
+}  // namespace
 
 void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& lateral) {
   // The floor under the person: under the waist once a model exists,
@@ -53,6 +73,8 @@ void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& later
     const BitMask* u = unseen[v];
     const bool any = u && u->width() == masks[v]->width() && u->height() == masks[v]->height() && u->count() > 0;
     cost_hides[v] = hiding[v] || side_cut[v] || any;
+    // Weighed on the building's pairs only (weigh_seat_unseen).
+    end_unseen[v] = any && phase == Phase::Building ? cvsm_detail::share_ending_on_unseen(*masks[v], *u) : 0;
     if (!any) continue;
     if (!hiding[v] && !side_cut[v]) {
       hidden[v] = *u;
@@ -67,12 +89,32 @@ void CvsmTracker::Impl::find_hidden(const BitMask& frontal, const BitMask& later
   cost->set_hidden(hidden_in(0), hidden_in(1));
 }
 
-// An occluder hides the lower body in both views: no view sees the
-// legs or the pelvis's lower outline, so the waist rests on the model's
-// guess of them (docs/cvsm.md, "Occluded lower body"). Not published
-// as tracking; the fit goes on from this pose.
+// The building's pairs say whether each view shows where the person
+// rests: a dark seat under dark clothes leaves it unseen (weigh_seat_unseen
+// on every building pair; held once the model is built).
+void CvsmTracker::Impl::weigh_seat_unseen() {
+  for (std::size_t v = 0; v < 2; ++v) {
+    std::vector<double>& shares = building_end_unseen[v];
+    shares.push_back(end_unseen[v]);
+    std::vector<double> sorted = shares;
+    const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    seat_unseen[v] = *middle >= kSeatUnseenShare;
+  }
+}
+
+bool CvsmTracker::Impl::lower_body_hidden_in_both() const {
+  return (hiding[0] || hiding[1]) && (hiding[0] || seat_unseen[0]) && (hiding[1] || seat_unseen[1]);
+}
+
+// An occluder hides the lower body in one view at least, and in the other
+// an occluder too or a seat it cannot see (typing at a desk on a black
+// chair): no view sees the legs or the pelvis's lower outline, so the
+// waist rests on the model's guess of them (docs/cvsm.md, "Occluded lower
+// body", "A black chair"). Not published as tracking; the fit goes on
+// from this pose.
 void CvsmTracker::Impl::withhold_hidden_lower_body(CvsmResult& r) const {
-  if (r.state == TrackingState::Tracking && hiding[0] && hiding[1]) {
+  if (r.state == TrackingState::Tracking && lower_body_hidden_in_both()) {
     r.state = TrackingState::Lost;
     if (!r.fit.flag) r.fit.flag = std::string(kLowerBodyHiddenFlag);
   }

@@ -275,6 +275,17 @@ struct CvsmTracker::Impl {
   // lies beyond it (side_cut.hpp, docs/cvsm.md "A desk's side").
   std::array<const BitMask*, 2> scene_edges{};
   std::array<bool, 2> cost_hides{};
+  // The share of each view's lower outline that ends on unseen pixels,
+  // this pair's (unseen_end.hpp); the building pairs' shares; and whether
+  // their median says the view does not show where the person rests (a
+  // dark seat), held once the model is built.
+  std::array<double, 2> end_unseen{};
+  std::array<std::vector<double>, 2> building_end_unseen;
+  std::array<bool, 2> seat_unseen{};
+  void weigh_seat_unseen();
+  // An occluder's edge in one view, and in the other one too or a seat
+  // it cannot see (seat_unseen): neither view shows the lower body.
+  bool lower_body_hidden_in_both() const;
   const BitMask* hidden_in(std::size_t view) const { return cost_hides[view] ? &hidden[view] : nullptr; }
   void find_hidden(const BitMask& frontal, const BitMask& lateral);
   void withhold_hidden_lower_body(CvsmResult& r) const;

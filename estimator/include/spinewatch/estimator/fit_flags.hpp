@@ -11,10 +11,11 @@ namespace spinewatch {
 inline constexpr std::string_view kTwistUnresolvedFlag = "twist_unresolved";
 
 // A pair neither of whose views shows the pelvis: each silhouette ends on
-// an occluder's edge (a desk the background holds) above the floor, or runs
-// into an edge of the image with the fitted hips beyond it; the waist is not
-// pinned and the pair is lost (docs/cvsm.md, "Occluded lower body", "Pelvis
-// out of the picture").
+// an occluder's edge (a desk the background holds) above the floor, or one
+// does and the other ends on a seat it cannot tell from the person (a black
+// chair), or each runs into an edge of the image with the fitted hips
+// beyond it; the waist is not pinned and the pair is lost (docs/cvsm.md,
+// "Occluded lower body", "A black chair", "Pelvis out of the picture").
 inline constexpr std::string_view kLowerBodyHiddenFlag = "lower_body_hidden";
 
 // The fitted head lies beyond an edge of the image in a view whose
